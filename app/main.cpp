@@ -1,0 +1,47 @@
+// flatmorph: turn a target surface into a flat printable plate that self-shapes in hot water.
+// This file only dispatches; every algorithm lives in src/.
+#include <fmt/core.h>
+
+#include <CLI/CLI.hpp>
+#include <exception>
+#include <vector>
+
+#include "commands.h"
+#include "common/error.h"
+
+int main(int argc, char** argv) {
+  using namespace flatmorph;
+  CLI::App app{
+      "flatmorph: turns a target 3D surface into a flat plate for an ordinary FFF printer that "
+      "morphs into that surface when dipped in hot water (Shrink & Morph, TOG 2023).\n"
+      "Units are millimetres and radians everywhere.",
+      "flatmorph"};
+  app.set_version_flag("--version", std::string("flatmorph ") + FLATMORPH_VERSION);
+  app.require_subcommand(1);
+  app.fallthrough();
+  cli::GlobalOptions global;
+  app.add_flag("-q,--quiet", global.quiet, "Print only errors");
+
+  std::vector<std::pair<CLI::App*, cli::Run>> commands;
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
+    fmt::print(stderr, "flatmorph: {}\nRun 'flatmorph --help' (or 'flatmorph COMMAND --help').\n",
+               e.what());
+    return 2;
+  }
+  try {
+    for (auto& [sub, run] : commands) {
+      if (sub->parsed()) return run();
+    }
+    return 2;
+  } catch (const UserError& e) {
+    fmt::print(stderr, "flatmorph: error: {}\n", e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "flatmorph: internal error: {}\n", e.what());
+    return 1;
+  }
+}
