@@ -26,17 +26,21 @@ Eigen::SparseMatrix<double> cotan_laplacian(const Eigen::MatrixXd& V, const Eige
 // Lumped (barycentric) mass: a third of the incident triangle areas per vertex.
 Eigen::VectorXd lumped_mass(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F);
 
+// Curvature sign convention (docs/conventions.md), the one of Shrink & Morph's b = -dn^T dphi:
+// curvature is positive where the surface bends toward its normal, i.e. where the side the normals
+// point to is concave. A sphere with inward normals has curvature +1/R, with outward normals -1/R.
+
 // Signed dihedral angle per edge of `topology` (#E), 0 on boundary edges: the angle between the two
-// face normals, positive where the surface is convex toward its normals (bends away from them, as a
-// sphere with outward normals), negative where concave.
+// face normals, positive where the surface bends toward its normals (concave on the normal side).
 Eigen::VectorXd signed_dihedral_angles(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
                                        const EdgeTopology& topology);
 
 // Per-face discrete shape operator (Grinspun et al. 2006, triangle-averaged; Shrink & Morph Eq. 10
 // with the 1/(2A) normalization of notes §3.4): S_f = sum over the face's interior edges of
 // theta_e * l_e / (2 A_f) * t_e t_e^T, t_e the unit in-plane edge normal. 3x3 symmetric, in world
-// coordinates; its tangent eigenvalues approximate the principal curvatures (1/R on a sphere of
-// radius R with outward normals, 1/R and 0 on a cylinder, 0 on a plane).
+// coordinates; its tangent eigenvalues approximate the principal curvatures with the sign convention
+// above (+1/R on a sphere of radius R with inward normals, -1/R with outward ones; 1/R and 0 on a
+// cylinder seen from inside; 0 on a plane).
 std::vector<Eigen::Matrix3d> shape_operators(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
                                              const EdgeTopology& topology);
 

@@ -1,0 +1,44 @@
+// Filament parameters: how printed layers shrink when heated, how stiff they are, and how to print
+// them. Lengths in mm, temperatures in degrees Celsius, moduli in MPa (only their ratio matters for
+// the predicted shape).
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace flatmorph {
+
+struct Material {
+  std::string name;
+  std::string description;
+  // Shrink ratios after heating (Shrink & Morph §4.1): new length / printed length.
+  double lambda1 = 0.58;  // along the deposition path
+  double lambda2 = 1.08;  // across the path, in the plate's plane
+  double lambda3 = 1.52;  // through the thickness
+  // Bilayer gradient of lambda1 through the thickness (Shrink & Morph Eq. 15), with z measured from
+  // the plate's mid-plane toward the top (away from the bed): lambda1(z) = lambda1 + (z/h) *
+  // delta_lambda1. Negative when the top layers shrink more than those on the bed.
+  double delta_lambda1 = -0.0226764665509417;
+  // Orthotropic stiffness (Eq. 4): Young's moduli along and across the path, Poisson-like ratio.
+  double young_modulus_along = 10.0;
+  double young_modulus_across = 1.0;
+  double poisson_ratio = 0.4;
+  // How the material was printed when the ratios above were measured.
+  double layer_height = 0.08;        // mm
+  double nozzle_temperature = 190;   // degrees C
+  double bed_temperature = 55;       // degrees C
+  double max_nozzle_temperature = 230;
+  double max_bed_temperature = 70;
+  double density = 1.24;             // g/cm^3
+};
+
+// Names of the built-in materials, in a fixed order.
+std::vector<std::string> material_preset_names();
+
+// A built-in material by name ("pla-paper": Polymaker PolyMax PLA as measured in Shrink & Morph §4),
+// or the material JSON file at `name_or_path`. Throws UserError naming the file or listing the
+// presets when it cannot.
+Material load_material(const std::string& name_or_path);
+
+}  // namespace flatmorph
