@@ -1,17 +1,25 @@
-// The flatmorph subcommands. Each add_*_command registers its options on the app and returns the
-// function that runs it; main() calls the one the user chose.
+// The flatmorph subcommands. Each make_*_command registers a subcommand with its options on the app
+// and returns it with the function that runs it; main() runs the one the user chose. Commands only
+// parse options, call the library and print: no algorithm lives in app/.
 #pragma once
 
 #include <CLI/CLI.hpp>
 #include <functional>
+#include <memory>
 
 namespace flatmorph::cli {
 
-using Run = std::function<int()>;
-
-// Global options every command sees.
+// Options every command sees (set before the command runs).
 struct GlobalOptions {
   bool quiet = false;
 };
+
+struct Command {
+  CLI::App* app;
+  std::function<int()> run;  // returns the exit status
+};
+
+Command make_info_command(CLI::App& app, const GlobalOptions& global);
+Command make_example_command(CLI::App& app, const GlobalOptions& global);
 
 }  // namespace flatmorph::cli

@@ -22,7 +22,11 @@ int main(int argc, char** argv) {
   cli::GlobalOptions global;
   app.add_flag("-q,--quiet", global.quiet, "Print only errors");
 
-  std::vector<std::pair<CLI::App*, cli::Run>> commands;
+  // Add new commands here, one line each, in the order `flatmorph --help` lists them.
+  std::vector<cli::Command> commands = {
+      cli::make_info_command(app, global),
+      cli::make_example_command(app, global),
+  };
 
   try {
     app.parse(argc, argv);
@@ -33,8 +37,8 @@ int main(int argc, char** argv) {
     return 2;
   }
   try {
-    for (auto& [sub, run] : commands) {
-      if (sub->parsed()) return run();
+    for (auto& command : commands) {
+      if (command.app->parsed()) return command.run();
     }
     return 2;
   } catch (const UserError& e) {

@@ -1,0 +1,186 @@
+#include "examples/examples.h"
+
+#include <cmath>
+#include <functional>
+#include <numbers>
+#include <string>
+
+#include "common/error.h"
+
+namespace flatmorph {
+
+namespace {
+
+// Every example is a height field z = height(x, y) (mm) over a disk footprint of radius
+// `footprint_radius` centred on the origin. A height field seen from above has its normals up as
+// long as the footprint triangles are counter-clockwise.
+struct HeightField {
+  double footprint_radius;
+  std::function<double(double, double)> height;
+  std::function<Eigen::Vector2d(double, double)> gradient;
+};
+
+struct Example {
+  ExampleInfo info;
+  std::function<HeightField()> field;
+};
+
+// 22 rings give 6 * 22^2 = 2904 faces: fine enough to resolve the curvature, small enough for the
+// README's quick design run.
+constexpr int kRings = 22;
+
+std::vector<Example> examples() {
+  return {
+      {{"dome",
+        "spherical cap, radius of curvature 60 mm, 80 mm footprint, 15.3 mm tall; positive "
+        "Gaussian "
+        "curvature"},
+       [] {
+         constexpr double kRadius = 60.0;
+         return HeightField{40.0,
+                            [](double x, double y) {
+                              return std::sqrt(kRadius * kRadius - x * x - y * y) - kRadius;
+                            },
+                            [](double x, double y) {
+                              const double scale =
+                                  -1.0 / std::sqrt(kRadius * kRadius - x * x - y * y);
+                              return Eigen::Vector2d(scale * x, scale * y);
+                            }};
+       }},
+      {{"saddle",
+        "z = (x^2 - y^2) / 160 mm over an 80 mm disk, +-10 mm; negative Gaussian curvature"},
+       [] {
+         constexpr double kScale = 2.0 * 80.0;
+         return HeightField{40.0, [](double x, double y) { return (x * x - y * y) / kScale; },
+                            [](double x, double y) {
+                              return Eigen::Vector2d(2.0 * x / kScale, -2.0 * y / kScale);
+                            }};
+       }},
+      {{"paraboloid",
+        "elliptic paraboloid cap, radii of curvature 70 mm (x) and 110 mm (y) at the apex, 90 mm "
+        "footprint; positive, anisotropic Gaussian curvature"},
+       [] {
+         constexpr double kRadiusX = 70.0, kRadiusY = 110.0;
+         return HeightField{
+             45.0,
+             [](double x, double y) {
+               return -(x * x / (2.0 * kRadiusX) + y * y / (2.0 * kRadiusY));
+             },
+             [](double x, double y) { return Eigen::Vector2d(-x / kRadiusX, -y / kRadiusY); }};
+       }},
+      {{"bump",
+        "Gaussian bump 12 mm tall, z = 12 exp(-r^2 / 36^2) mm, over a 100 mm disk; positive "
+        "curvature on top, negative on the flank"},
+       [] {
+         constexpr double kAmplitude = 12.0, kWidth = 2.0 * 18.0;
+         auto height = [](double x, double y) {
+           return kAmplitude * std::exp(-(x * x + y * y) / (kWidth * kWidth));
+         };
+         return HeightField{50.0, height, [height](double x, double y) {
+                              const double scale = -2.0 * height(x, y) / (kWidth * kWidth);
+                              return Eigen::Vector2d(scale * x, scale * y);
+                            }};
+       }},
+  };
+}
+
+// Footprint radii of rings 0..rings such that consecutive rings are equally far apart along the
+// surface. The radial arc length is averaged over the direction, s(r) = int_0^r mean_psi
+// sqrt(1 + (dz/dr)^2), which is the geodesic arc length for surfaces of revolution (the dome).
+std::vector<double> even_ring_radii(const HeightField& field, int rings) {
+  constexpr int kSamples = 2000;  // along the radius, trapezoid rule
+  constexpr int kDirections = 64;
+  auto slope_factor = [&](double r) {
+    double sum = 0.0;
+    for (int d = 0; d < kDirections; ++d) {
+      const double psi = 2.0 * std::numbers::pi * d / kDirections;
+      const Eigen::Vector2d radial(std::cos(psi), std::sin(psi));
+      const double dzdr = field.gradient(r * radial.x(), r * radial.y()).dot(radial);
+      sum += std::sqrt(1.0 + dzdr * dzdr);
+    }
+    return sum / kDirections;
+  };
+  const double dr = field.footprint_radius / kSamples;
+  std::vector<double> arc(kSamples + 1, 0.0);
+  double previous = slope_factor(0.0);
+  for (int k = 1; k <= kSamples; ++k) {
+    const double current = slope_factor(k * dr);
+    arc[k] = arc[k - 1] + 0.5 * dr * (previous + current);
+    previous = current;
+  }
+  std::vector<double> radii(rings + 1, 0.0);
+  int k = 0;
+  for (int i = 1; i < rings; ++i) {
+    const double target = arc[kSamples] * i / rings;
+    while (arc[k + 1] < target) ++k;
+    radii[i] = (k + (target - arc[k]) / (arc[k + 1] - arc[k])) * dr;
+  }
+  radii[rings] = field.footprint_radius;  // exact, so the footprint diameter is as documented
+  return radii;
+}
+
+// Disk of concentric rings: ring i (i >= 1) at radius radii[i] with 6 i vertices at angles
+// 2 pi j / (6 i), consecutive rings stitched into a strip of 12 i + 6 triangles. Every interior
+// vertex has valence 6 (a hexagonal lattice bent onto circles), so triangles stay near-equilateral.
+// Faces are counter-clockwise seen from +z.
+Mesh ring_disk(const std::vector<double>& radii) {
+  const int rings = static_cast<int>(radii.size()) - 1;
+  auto first = [](int ring) { return ring == 0 ? 0 : 1 + 3 * ring * (ring - 1); };
+  Mesh mesh;
+  mesh.V.setZero(first(rings + 1), 3);
+  mesh.F.resize(6 * rings * rings, 3);
+  for (int i = 1; i <= rings; ++i) {
+    for (int j = 0; j < 6 * i; ++j) {
+      const double psi = 2.0 * std::numbers::pi * j / (6 * i);
+      mesh.V.row(first(i) + j) << radii[i] * std::cos(psi), radii[i] * std::sin(psi), 0.0;
+    }
+  }
+  int f = 0;
+  for (int b = 0; b < 6; ++b) mesh.F.row(f++) << 0, first(1) + b, first(1) + (b + 1) % 6;
+  for (int i = 1; i < rings; ++i) {
+    const int m = 6 * i, n = 6 * (i + 1);
+    auto inner = [&](int a) { return first(i) + a % m; };
+    auto outer = [&](int b) { return first(i + 1) + b % n; };
+    // Merge the two rings by angle, closing the triangle toward whichever next vertex comes first
+    // (exact integer comparison of (b+1)/n with (a+1)/m). A tie means both next vertices are
+    // hexagon corners on the same ray; advancing the inner ring first makes the corner edge the
+    // short radial one, which reproduces the hexagonal lattice.
+    for (int a = 0, b = 0; a < m || b < n;) {
+      if (a == m || (b < n && (b + 1) * m < (a + 1) * n)) {
+        mesh.F.row(f++) << inner(a), outer(b), outer(b + 1);
+        ++b;
+      } else {
+        mesh.F.row(f++) << inner(a), outer(b), inner(a + 1);
+        ++a;
+      }
+    }
+  }
+  return mesh;
+}
+
+}  // namespace
+
+std::vector<ExampleInfo> example_list() {
+  std::vector<ExampleInfo> list;
+  for (const Example& example : examples()) list.push_back(example.info);
+  return list;
+}
+
+Mesh make_example(const std::string& name) {
+  for (const Example& example : examples()) {
+    if (example.info.name != name) continue;
+    const HeightField field = example.field();
+    Mesh mesh = ring_disk(even_ring_radii(field, kRings));
+    for (int v = 0; v < mesh.num_vertices(); ++v) {
+      mesh.V(v, 2) = field.height(mesh.V(v, 0), mesh.V(v, 1));
+    }
+    return mesh;
+  }
+  std::string names;
+  for (const Example& example : examples()) {
+    names += (names.empty() ? "" : ", ") + example.info.name;
+  }
+  throw UserError(ErrorCategory::kOption, "unknown example '" + name + "': choose one of " + names);
+}
+
+}  // namespace flatmorph
