@@ -39,7 +39,7 @@ class MeshReadError : public UserError {
 // Throws MeshReadError naming the file, the line (or byte offset), and what is wrong: unknown
 // extension, empty file, truncated data, a count in a header larger than the file can hold, a face
 // index out of range, a non-number where a number belongs, a face with fewer than 3 vertices.
-// NaN/Inf coordinates are read as they are; validate_mesh reports them.
+// NaN/Inf coordinates are read as they are; diagnose_mesh reports them.
 MeshFile read_mesh(const std::filesystem::path& path);
 
 enum class PlyEncoding { kAscii, kBinaryLittleEndian, kBinaryBigEndian };

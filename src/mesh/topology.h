@@ -10,7 +10,7 @@
 namespace flatmorph {
 
 // Undirected edges and how faces use them. Requires an edge-manifold mesh (at most two faces per
-// edge); validate_mesh reports meshes that are not.
+// edge); diagnose_mesh reports meshes that are not.
 struct EdgeTopology {
   Eigen::MatrixXi edges;        // #E x 2, vertex indices with edges(e,0) < edges(e,1), sorted
   Eigen::MatrixXi face_edges;   // #F x 3, face_edges(f,k) = edge index of edge k of face f
