@@ -21,5 +21,9 @@ struct Command {
 
 Command make_info_command(CLI::App& app, const GlobalOptions& global);
 Command make_example_command(CLI::App& app, const GlobalOptions& global);
+Command make_printers_command(CLI::App& app, const GlobalOptions& global);
+Command make_materials_command(CLI::App& app, const GlobalOptions& global);
+Command make_check_command(CLI::App& app, const GlobalOptions& global);
+Command make_flatten_command(CLI::App& app, const GlobalOptions& global);
 
 }  // namespace flatmorph::cli

@@ -26,6 +26,10 @@ int main(int argc, char** argv) {
   std::vector<cli::Command> commands = {
       cli::make_info_command(app, global),
       cli::make_example_command(app, global),
+      cli::make_printers_command(app, global),
+      cli::make_materials_command(app, global),
+      cli::make_check_command(app, global),
+      cli::make_flatten_command(app, global),
   };
 
   try {

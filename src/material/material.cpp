@@ -3,89 +3,154 @@
 #include <fmt/core.h>
 #include <fmt/ranges.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <sstream>
 
+#include "common/embedded_profiles.h"
 #include "common/error.h"
 
 namespace flatmorph {
 namespace {
 
-Material paper_pla() {
-  Material m;
-  m.name = "pla-paper";
-  m.description =
-      "Polymaker PolyMax PLA (grey), 190 C, 0.08 mm layers, 0.4 mm nozzle: the material of "
-      "Shrink & Morph §4 (lambda 0.58 / 1.08 / 1.52)";
-  return m;  // the defaults of Material are this material
+// One number a material file may hold, with the range that makes physical sense.
+struct NumberKey {
+  const char* key;
+  double Material::*field;
+  double lo;
+  double hi;
+};
+
+// The ranges are wide on purpose (other filaments, other printers); they only catch typos and
+// units mistakes (0.58 written as 58, Kelvin for Celsius).
+constexpr NumberKey kNumberKeys[] = {
+    {"lambda1", &Material::lambda1, 0.2, 1.5},
+    {"lambda2", &Material::lambda2, 0.2, 2.0},
+    {"lambda3", &Material::lambda3, 0.2, 3.0},
+    {"delta_lambda1", &Material::delta_lambda1, -0.5, 0.5},
+    {"young_modulus_along", &Material::young_modulus_along, 1e-9, 1e12},
+    {"young_modulus_across", &Material::young_modulus_across, 1e-9, 1e12},
+    {"poisson_ratio", &Material::poisson_ratio, 0.0, 0.49},
+    {"layer_height", &Material::layer_height, 0.01, 1.0},
+    {"nozzle_temperature", &Material::nozzle_temperature, 100, 350},
+    {"bed_temperature", &Material::bed_temperature, 0, 130},
+    {"min_nozzle_temperature", &Material::min_nozzle_temperature, 100, 350},
+    {"max_nozzle_temperature", &Material::max_nozzle_temperature, 100, 350},
+    {"max_bed_temperature", &Material::max_bed_temperature, 0, 130},
+    {"density", &Material::density, 0.5, 3.0},
+    {"print_speed", &Material::print_speed, 0, 500},
+    {"first_layer_speed", &Material::first_layer_speed, 0, 500},
+    {"fan_speed", &Material::fan_speed, 0, 100},
+    {"first_layer_fan_speed", &Material::first_layer_fan_speed, 0, 100},
+};
+
+std::vector<std::string> known_keys() {
+  std::vector<std::string> keys = {"name", "description"};
+  for (const NumberKey& k : kNumberKeys) keys.emplace_back(k.key);
+  return keys;
 }
 
-void check_range(const std::string& source, const char* key, double value, double lo, double hi) {
-  if (!std::isfinite(value) || value < lo || value > hi) {
-    throw UserError(ErrorCategory::kProfile,
-                    fmt::format("{}: \"{}\" is {}, expected a number in [{}, {}]", source, key,
-                                value, lo, hi));
+Material parse_material(const nlohmann::json& j, const std::string& source, std::string name) {
+  if (!j.is_object()) {
+    throw UserError(
+        ErrorCategory::kProfile,
+        fmt::format("{}: a material file must hold a JSON object {{\"lambda1\": ...}}", source));
   }
-}
-
-Material parse_material(const nlohmann::json& j, const std::string& source) {
-  Material m;
-  m.name = std::filesystem::path(source).stem().string();
-  auto read = [&](const char* key, double& field, double lo, double hi) {
-    if (!j.contains(key)) return;
-    if (!j[key].is_number()) {
+  const std::vector<std::string> keys = known_keys();
+  for (const auto& [key, value] : j.items()) {
+    if (std::find(keys.begin(), keys.end(), key) == keys.end()) {
       throw UserError(ErrorCategory::kProfile,
-                      fmt::format("{}: \"{}\" must be a number", source, key));
+                      fmt::format("{}: unknown key \"{}\"; a material file may hold {}", source,
+                                  key, fmt::join(keys, ", ")));
     }
-    field = j[key].get<double>();
-    check_range(source, key, field, lo, hi);
-  };
-  if (j.contains("name") && j["name"].is_string()) m.name = j["name"].get<std::string>();
-  if (j.contains("description") && j["description"].is_string()) {
-    m.description = j["description"].get<std::string>();
   }
-  read("lambda1", m.lambda1, 0.2, 1.5);
-  read("lambda2", m.lambda2, 0.2, 2.0);
-  read("lambda3", m.lambda3, 0.2, 3.0);
-  read("delta_lambda1", m.delta_lambda1, -0.5, 0.5);
-  read("young_modulus_along", m.young_modulus_along, 1e-9, 1e12);
-  read("young_modulus_across", m.young_modulus_across, 1e-9, 1e12);
-  read("poisson_ratio", m.poisson_ratio, 0.0, 0.49);
-  read("layer_height", m.layer_height, 0.01, 1.0);
-  read("nozzle_temperature", m.nozzle_temperature, 100, 350);
-  read("bed_temperature", m.bed_temperature, 0, 130);
-  read("max_nozzle_temperature", m.max_nozzle_temperature, 100, 350);
-  read("max_bed_temperature", m.max_bed_temperature, 0, 130);
-  read("density", m.density, 0.5, 3.0);
+  Material m;
+  m.name = std::move(name);
+  for (const char* key : {"name", "description"}) {
+    if (!j.contains(key)) continue;
+    if (!j[key].is_string()) {
+      throw UserError(ErrorCategory::kProfile,
+                      fmt::format("{}: \"{}\" must be a string", source, key));
+    }
+    (std::string_view(key) == "name" ? m.name : m.description) = j[key].get<std::string>();
+  }
+  for (const NumberKey& k : kNumberKeys) {
+    if (!j.contains(k.key)) continue;
+    const nlohmann::json& value = j[k.key];
+    if (!value.is_number()) {
+      throw UserError(ErrorCategory::kProfile, fmt::format("{}: \"{}\" must be a number, not {}",
+                                                           source, k.key, value.dump()));
+    }
+    const double x = value.get<double>();
+    if (!std::isfinite(x) || x < k.lo || x > k.hi) {
+      throw UserError(ErrorCategory::kProfile,
+                      fmt::format("{}: \"{}\" is {}, expected a number in [{}, {}]", source, k.key,
+                                  x, k.lo, k.hi));
+    }
+    m.*k.field = x;
+  }
+  if (m.nozzle_temperature < m.min_nozzle_temperature ||
+      m.nozzle_temperature > m.max_nozzle_temperature) {
+    throw UserError(ErrorCategory::kProfile,
+                    fmt::format("{}: nozzle_temperature {} C lies outside the material's safe "
+                                "range [min_nozzle_temperature {}, max_nozzle_temperature {}]; fix "
+                                "one of the three",
+                                source, m.nozzle_temperature, m.min_nozzle_temperature,
+                                m.max_nozzle_temperature));
+  }
+  if (m.bed_temperature > m.max_bed_temperature) {
+    throw UserError(ErrorCategory::kProfile,
+                    fmt::format("{}: bed_temperature {} C is above max_bed_temperature {} C; fix "
+                                "one of the two",
+                                source, m.bed_temperature, m.max_bed_temperature));
+  }
   return m;
+}
+
+nlohmann::json parse_json(std::string_view text, const std::string& source) {
+  try {
+    return nlohmann::json::parse(text);
+  } catch (const nlohmann::json::parse_error& e) {
+    throw UserError(ErrorCategory::kProfile,
+                    fmt::format("{}: not valid JSON ({})", source, e.what()));
+  }
 }
 
 }  // namespace
 
-std::vector<std::string> material_preset_names() { return {"pla-paper"}; }
+std::vector<std::string> material_preset_names() {
+  std::vector<std::string> names;
+  for (const EmbeddedProfile& p : embedded_profiles()) {
+    if (p.kind == "materials") names.emplace_back(p.name);
+  }
+  return names;
+}
 
 Material load_material(const std::string& name_or_path) {
-  if (name_or_path == "pla-paper") return paper_pla();
+  for (const EmbeddedProfile& p : embedded_profiles()) {
+    if (p.kind == "materials" && p.name == name_or_path) {
+      const std::string source = fmt::format("built-in material {}", p.name);
+      return parse_material(parse_json(p.text, source), source, std::string(p.name));
+    }
+  }
   const std::filesystem::path path(name_or_path);
-  if (!std::filesystem::exists(path)) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) {
     throw UserError(ErrorCategory::kOption,
                     fmt::format("unknown material \"{}\": not a preset ({}) and no such file",
                                 name_or_path, fmt::join(material_preset_names(), ", ")));
   }
-  std::ifstream in(path);
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(in);
-  } catch (const nlohmann::json::parse_error& e) {
-    throw UserError(ErrorCategory::kProfile,
-                    fmt::format("{}: not valid JSON ({})", name_or_path, e.what()));
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    throw UserError(
+        ErrorCategory::kFile,
+        fmt::format("{}: cannot open the material file; check its permissions", name_or_path));
   }
-  if (!j.is_object()) {
-    throw UserError(ErrorCategory::kProfile,
-                    fmt::format("{}: a material file must hold a JSON object", name_or_path));
-  }
-  return parse_material(j, name_or_path);
+  std::stringstream text;
+  text << in.rdbuf();
+  return parse_material(parse_json(text.str(), name_or_path), name_or_path, path.stem().string());
 }
 
 }  // namespace flatmorph

@@ -25,20 +25,31 @@ struct Material {
   double young_modulus_across = 1.0;
   double poisson_ratio = 0.4;
   // How the material was printed when the ratios above were measured.
-  double layer_height = 0.08;        // mm
-  double nozzle_temperature = 190;   // degrees C
-  double bed_temperature = 55;       // degrees C
+  double layer_height = 0.08;       // mm
+  double nozzle_temperature = 190;  // degrees C
+  double bed_temperature = 55;      // degrees C
   double max_nozzle_temperature = 230;
   double max_bed_temperature = 70;
-  double density = 1.24;             // g/cm^3
+  double density = 1.24;  // g/cm^3
+  // Safe printing range: the G-code check refuses extrusion below the minimum and any target above
+  // the maxima (degrees C).
+  double min_nozzle_temperature = 180;
+  // Speeds the ratios were measured at (mm/s): the shrink depends on them, so they are the G-code
+  // writer's default for extruding moves (0 = use the printer's).
+  double print_speed = 30;
+  double first_layer_speed = 15;
+  // Part-cooling fan, percent of full speed, from the second layer on and on the first layer.
+  double fan_speed = 100;
+  double first_layer_fan_speed = 0;
 };
 
 // Names of the built-in materials, in a fixed order.
 std::vector<std::string> material_preset_names();
 
-// A built-in material by name ("pla-paper": Polymaker PolyMax PLA as measured in Shrink & Morph §4),
-// or the material JSON file at `name_or_path`. Throws UserError naming the file or listing the
-// presets when it cannot.
+// A built-in material by name (profiles/materials/NAME.json, e.g. "pla-paper": Polymaker PolyMax
+// PLA as measured in Shrink & Morph §4), or the material JSON file at `name_or_path` (same format;
+// keys left out keep the paper PLA's values). Throws UserError naming the file or listing the
+// presets when it cannot, and naming the key for a wrong, unknown or out-of-range value.
 Material load_material(const std::string& name_or_path);
 
 }  // namespace flatmorph

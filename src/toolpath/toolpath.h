@@ -14,7 +14,7 @@ namespace flatmorph {
 struct SegmentStyle {
   double width = 0.4;         // extrusion width, mm
   double layer_height = 0.08; // bead height, mm (may vary along a path)
-  double feed_rate = 30.0;    // mm/s; 0 means "the printer's default for this path type"
+  double feed_rate = 0.0;     // mm/s; 0 means the material's speed for this layer and path type
   int tool = 0;               // extruder index
   bool travel = false;        // move without extruding
 };

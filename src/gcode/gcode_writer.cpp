@@ -1,0 +1,819 @@
+#include "gcode/gcode_writer.h"
+
+#include <fmt/core.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <optional>
+#include <set>
+#include <stdexcept>
+
+#include "common/atomic_file.h"
+#include "common/error.h"
+#include "gcode/estimate.h"
+#include "gcode/gcode_check.h"
+
+namespace flatmorph {
+namespace {
+
+// Fixed-point units of the numbers written: X/Y/Z with 3 decimals, E with 5. Positions and E are
+// tracked in these integer units, so that what the writer believes is exactly what the printer
+// reads, and rounding never accumulates.
+constexpr double kXyzUnits = 1e3;
+constexpr double kEUnits = 1e5;
+// The start G-code leaves the nozzle near the bed at an unknown place (after a purge line): the
+// first travel lifts at least this much (mm) so it does not drag through the purge blob.
+constexpr double kFirstTravelLift = 1.0;
+// How far the end G-code's park position is above the print (mm): room to grab the plate.
+constexpr double kParkClearance = 20.0;
+
+// Appends `units` / 10^decimals in fixed notation ("-12.500"), without going through printf: the
+// writer prints millions of numbers and the output must not depend on the locale.
+void append_fixed(std::string& out, long long units, int decimals) {
+  if (units < 0) {
+    out += '-';
+    units = -units;
+  }
+  long long scale = 1;
+  for (int i = 0; i < decimals; ++i) scale *= 10;
+  out += std::to_string(units / scale);
+  if (decimals == 0) return;
+  out += '.';
+  std::string frac = std::to_string(units % scale);
+  out.append(static_cast<size_t>(decimals) - frac.size(), '0');
+  out += frac;
+}
+
+std::string fixed(double value, int decimals) {
+  std::string s;
+  append_fixed(s, std::llround(value * std::pow(10.0, decimals)), decimals);
+  return s;
+}
+
+double filament_area(const PrinterProfile& printer) {
+  return std::numbers::pi * printer.filament_diameter * printer.filament_diameter / 4;
+}
+
+// Checks what the writer relies on; a toolpath violating it is a bug of the code that made it.
+void validate_toolpath(const Toolpath& toolpath, const PrinterProfile& printer) {
+  if (toolpath.layers.empty()) throw std::invalid_argument("make_gcode: the toolpath has no layer");
+  for (size_t k = 0; k < toolpath.layers.size(); ++k) {
+    const ToolpathLayer& layer = toolpath.layers[k];
+    if (!(layer.z > 0) || !(layer.height > 0) || !std::isfinite(layer.z)) {
+      throw std::invalid_argument(
+          fmt::format("make_gcode: layer {} has z {} and height {}", k + 1, layer.z, layer.height));
+    }
+    for (const PathPolyline& path : layer.paths) {
+      if (path.points.rows() < 2 || path.segments.size() + 1 != size_t(path.points.rows())) {
+        throw std::invalid_argument(
+            fmt::format("make_gcode: a path of layer {} has {} points and {} segments", k + 1,
+                        path.points.rows(), path.segments.size()));
+      }
+      if (!path.points.allFinite() || (path.points.col(2).array() <= 0).any()) {
+        throw std::invalid_argument(
+            fmt::format("make_gcode: a path of layer {} has a point that is not finite or not "
+                        "above the bed",
+                        k + 1));
+      }
+      for (const SegmentStyle& s : path.segments) {
+        if (s.travel) continue;
+        if (!(s.width > 0) || !(s.layer_height > 0) || !(s.feed_rate >= 0) ||
+            !std::isfinite(s.width + s.layer_height + s.feed_rate)) {
+          throw std::invalid_argument(
+              fmt::format("make_gcode: a segment of layer {} has width {}, height {}, feed rate {}",
+                          k + 1, s.width, s.layer_height, s.feed_rate));
+        }
+        if (s.tool < 0 || s.tool >= printer.extruder_count) {
+          throw UserError(ErrorCategory::kInfeasible,
+                          fmt::format("the toolpath uses tool T{} but the printer {} has {} "
+                                      "extruder(s): choose a printer with more tools",
+                                      s.tool, printer.name, printer.extruder_count));
+        }
+      }
+    }
+  }
+}
+
+// Convex hull (counter-clockwise, no repeated point) of 2D points: Andrew's monotone chain.
+std::vector<Eigen::Vector2d> convex_hull(std::vector<Eigen::Vector2d> p) {
+  std::sort(p.begin(), p.end(), [](const auto& a, const auto& b) {
+    return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
+  });
+  p.erase(std::unique(p.begin(), p.end()), p.end());
+  if (p.size() < 3) return p;
+  auto cross = [](const Eigen::Vector2d& o, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+    return (a - o).x() * (b - o).y() - (a - o).y() * (b - o).x();
+  };
+  std::vector<Eigen::Vector2d> hull(2 * p.size());
+  size_t k = 0;
+  for (size_t i = 0; i < p.size(); ++i) {
+    while (k >= 2 && cross(hull[k - 2], hull[k - 1], p[i]) <= 0) --k;
+    hull[k++] = p[i];
+  }
+  for (size_t i = p.size() - 1, t = k + 1; i-- > 0;) {
+    while (k >= t && cross(hull[k - 2], hull[k - 1], p[i]) <= 0) --k;
+    hull[k++] = p[i];
+  }
+  hull.resize(k - 1);
+  return hull;
+}
+
+// The boundary of the hull grown by `r`: straight edges moved out by r joined by arcs of radius r
+// around the hull's corners (steps of at most 10 degrees).
+std::vector<Eigen::Vector2d> offset_hull(const std::vector<Eigen::Vector2d>& hull, double r) {
+  std::vector<Eigen::Vector2d> out;
+  const size_t n = hull.size();
+  auto arc = [&](const Eigen::Vector2d& c, double from, double sweep) {
+    const int steps = std::max(1, static_cast<int>(std::ceil(sweep / (std::numbers::pi / 18))));
+    for (int s = 0; s <= steps; ++s) {
+      const double a = from + sweep * s / steps;
+      out.push_back(c + r * Eigen::Vector2d(std::cos(a), std::sin(a)));
+    }
+  };
+  if (n == 1) {
+    arc(hull[0], 0, 2 * std::numbers::pi);
+    out.pop_back();
+    return out;
+  }
+  for (size_t i = 0; i < n; ++i) {
+    const Eigen::Vector2d& prev = hull[(i + n - 1) % n];
+    const Eigen::Vector2d& here = hull[i];
+    const Eigen::Vector2d& next = hull[(i + 1) % n];
+    // Outward normals of a counter-clockwise polygon are its edge directions turned clockwise.
+    const Eigen::Vector2d d_in = (here - prev).normalized();
+    const Eigen::Vector2d d_out = (next - here).normalized();
+    const double a_in = std::atan2(-d_in.x(), d_in.y());
+    const double a_out = std::atan2(-d_out.x(), d_out.y());
+    double sweep = a_out - a_in;
+    while (sweep < 0) sweep += 2 * std::numbers::pi;
+    while (sweep >= 2 * std::numbers::pi) sweep -= 2 * std::numbers::pi;
+    arc(here, a_in, sweep);
+  }
+  return out;
+}
+
+std::string fan_command(GcodeFlavor flavor, double percent) {
+  if (percent <= 0) return "M107";
+  if (flavor == GcodeFlavor::kRepRapFirmware) {
+    return "M106 S" + fixed(percent / 100, 2);  // RepRapFirmware reads 0..1
+  }
+  return fmt::format("M106 S{}", std::lround(std::min(percent, 100.0) / 100 * 255));
+}
+
+// Emits the moves of the print and keeps the machine state: where the head is, what the E register
+// holds, the feed rate, whether the filament is retracted, and the annotations in effect.
+class Emitter {
+ public:
+  Emitter(const PrinterProfile& printer, const Material& material, const Eigen::Vector2d& offset)
+      : printer_(printer), material_(material), offset_(offset) {}
+
+  std::string& out() { return out_; }
+  std::vector<Motion>& motions() { return motions_; }
+  double extruded() const { return extruded_; }
+
+  void line(std::string_view text) {
+    out_ += text;
+    out_ += '\n';
+  }
+
+  void begin_layer(const ToolpathLayer& layer, int index) {
+    out_ += ";LAYER_CHANGE\n;Z:";
+    out_ += fixed(layer.z, 3);
+    out_ += "\n;HEIGHT:";
+    height_ = std::llround(layer.height * kXyzUnits);
+    append_fixed(out_, height_, 3);
+    out_ += '\n';
+    type_.reset();  // say the type again in every layer, as PrusaSlicer does
+    if (!printer_.relative_e || printer_.flavor == GcodeFlavor::kBambu) {
+      // Absolute E restarts at each layer so its numbers stay small; Bambu printers expect it
+      // with relative E too.
+      e_exact_ -= static_cast<double>(e_units_) / kEUnits;
+      e_units_ = 0;
+      line("G92 E0");
+    }
+    layer_index_ = index;
+    first_travel_of_layer_ = true;
+  }
+
+  void path(const PathPolyline& path) {
+    // Change tools before travelling, so the new tool is the one that arrives.
+    for (const SegmentStyle& s : path.segments) {
+      if (!s.travel) {
+        select_tool(s.tool);
+        break;
+      }
+    }
+    travel_to(point(path, 0));
+    for (size_t i = 0; i < path.segments.size(); ++i) {
+      const SegmentStyle& s = path.segments[i];
+      const Eigen::Vector3d to = point(path, i + 1);
+      if (s.travel) {
+        travel_to(to);
+        continue;
+      }
+      select_tool(s.tool);
+      annotate(path.type, s);
+      extrude_to(to,
+                 (path.points.row(i + 1) - path.points.row(i)).norm() * s.width * s.layer_height /
+                     filament_area(printer_),
+                 extrusion_speed(s));
+    }
+  }
+
+  void select_tool(int tool) {
+    if (tool == tool_) return;
+    if (printer_.extruder_count > 1) line(fmt::format("T{}", tool));
+    tool_ = tool;
+  }
+
+  void retract() {
+    if (retracted_ || (printer_.retract_length <= 0 && !printer_.firmware_retraction)) return;
+    if (printer_.firmware_retraction) {
+      line("G10 ; retract (firmware)");
+    } else {
+      e_move(-std::llround(printer_.retract_length * kEUnits), printer_.retract_speed,
+             " ; retract");
+    }
+    motions_.push_back({Eigen::Vector3d::Zero(), -printer_.retract_length, printer_.retract_speed});
+    retracted_ = true;
+  }
+
+  void unretract() {
+    if (!retracted_) return;
+    if (printer_.firmware_retraction) {
+      line("G11 ; unretract (firmware)");
+    } else {
+      e_move(std::llround(printer_.retract_length * kEUnits), printer_.retract_speed,
+             " ; unretract");
+    }
+    motions_.push_back({Eigen::Vector3d::Zero(), printer_.retract_length, printer_.retract_speed});
+    retracted_ = false;
+  }
+
+ private:
+  Eigen::Vector3d point(const PathPolyline& path, size_t i) const {
+    return {path.points(i, 0) + offset_.x(), path.points(i, 1) + offset_.y(), path.points(i, 2)};
+  }
+
+  double extrusion_speed(const SegmentStyle& s) const {
+    if (s.feed_rate > 0) return s.feed_rate;
+    if (layer_index_ == 0) {
+      return material_.first_layer_speed > 0 ? material_.first_layer_speed
+                                             : printer_.first_layer_speed;
+    }
+    return material_.print_speed > 0 ? material_.print_speed : printer_.print_speed;
+  }
+
+  void annotate(PathType type, const SegmentStyle& s) {
+    if (type_ != type) {
+      out_ += ";TYPE:";
+      out_ += prusaslicer_type_name(type);
+      out_ += '\n';
+      type_ = type;
+    }
+    const long long width = std::llround(s.width * kXyzUnits);
+    if (width != width_) {
+      out_ += ";WIDTH:";
+      append_fixed(out_, width, 3);
+      out_ += '\n';
+      width_ = width;
+    }
+    const long long height = std::llround(s.layer_height * kXyzUnits);
+    if (height != height_) {
+      out_ += ";HEIGHT:";
+      append_fixed(out_, height, 3);
+      out_ += '\n';
+      height_ = height;
+    }
+  }
+
+  // Travel to `p`: retract and lift for long travels and at the start of a layer, never extrude.
+  void travel_to(const Eigen::Vector3d& p) {
+    const Eigen::Vector3i target = to_units(p);
+    if (known_ && target == pos_) return;
+    const bool first = !known_;
+    const double xy = first ? 0 : (p.head<2>() - position().head<2>()).norm();
+    const bool long_travel = first || first_travel_of_layer_ || xy >= printer_.retract_min_travel;
+    first_travel_of_layer_ = false;
+    if (long_travel) retract();
+    int cruise_z = std::max(pos_.z(), target.z());
+    if (first) {
+      cruise_z = target.z() + lift_units(std::max(printer_.z_hop, kFirstTravelLift));
+    } else if (long_travel && printer_.z_hop > 0) {
+      cruise_z += lift_units(printer_.z_hop);
+    }
+    if (first || cruise_z != pos_.z()) move_z(cruise_z);
+    if (first || target.head<2>() != pos_.head<2>())
+      move_xy(target.head<2>(), printer_.travel_speed);
+    if (target.z() != pos_.z()) move_z(target.z());
+    unretract();
+  }
+
+  static int lift_units(double mm) { return static_cast<int>(std::lround(mm * kXyzUnits)); }
+
+  Eigen::Vector3d position() const { return pos_.cast<double>() / kXyzUnits; }
+
+  static Eigen::Vector3i to_units(const Eigen::Vector3d& p) {
+    return {static_cast<int>(std::lround(p.x() * kXyzUnits)),
+            static_cast<int>(std::lround(p.y() * kXyzUnits)),
+            static_cast<int>(std::lround(p.z() * kXyzUnits))};
+  }
+
+  void move_z(int z) {
+    const double speed = printer_.z_speed;
+    out_ += "G0 Z";
+    append_fixed(out_, z, 3);
+    feed(speed);
+    out_ += '\n';
+    if (known_) {
+      motions_.push_back({Eigen::Vector3d(0, 0, (z - pos_.z()) / kXyzUnits), 0, feed_speed()});
+    }
+    pos_.z() = z;
+  }
+
+  void move_xy(const Eigen::Vector2i& xy, double speed) {
+    out_ += "G0 X";
+    append_fixed(out_, xy.x(), 3);
+    out_ += " Y";
+    append_fixed(out_, xy.y(), 3);
+    feed(speed);
+    out_ += '\n';
+    if (known_) {
+      motions_.push_back(
+          {Eigen::Vector3d((xy.x() - pos_.x()) / kXyzUnits, (xy.y() - pos_.y()) / kXyzUnits, 0), 0,
+           feed_speed()});
+    }
+    pos_.head<2>() = xy;
+    known_ = true;
+  }
+
+  void extrude_to(const Eigen::Vector3d& p, double filament, double speed) {
+    const Eigen::Vector3i target = to_units(p);
+    e_exact_ += filament;
+    extruded_ += filament;
+    const long long e_target = std::llround(e_exact_ * kEUnits);
+    const long long delta = e_target - e_units_;
+    out_ += "G1 X";
+    append_fixed(out_, target.x(), 3);
+    out_ += " Y";
+    append_fixed(out_, target.y(), 3);
+    if (target.z() != pos_.z()) {
+      out_ += " Z";
+      append_fixed(out_, target.z(), 3);
+    }
+    out_ += " E";
+    append_fixed(out_, printer_.relative_e ? delta : e_target, 5);
+    feed(speed);
+    out_ += '\n';
+    motions_.push_back({(target - pos_).cast<double>() / kXyzUnits, delta / kEUnits, feed_speed()});
+    e_units_ = e_target;
+    pos_ = target;
+  }
+
+  void e_move(long long delta, double speed, std::string_view comment) {
+    e_units_ += delta;
+    out_ += "G1 E";
+    append_fixed(out_, printer_.relative_e ? delta : e_units_, 5);
+    feed(speed);
+    out_ += comment;
+    out_ += '\n';
+  }
+
+  // Appends " F<mm/min>" when the feed rate changes (F is modal, shared by G0 and G1).
+  void feed(double speed) {
+    const long f = std::lround(speed * 60);
+    if (f == feed_) return;
+    feed_ = f;
+    out_ += " F";
+    out_ += std::to_string(f);
+  }
+  double feed_speed() const { return feed_ / 60.0; }
+
+  const PrinterProfile& printer_;
+  const Material& material_;
+  Eigen::Vector2d offset_;
+  std::string out_;
+  std::vector<Motion> motions_;
+  Eigen::Vector3i pos_ = Eigen::Vector3i::Zero();  // mm / 1000
+  bool known_ = false;
+  long long e_units_ = 0;  // the E register since the last G92, mm / 1e5
+  double e_exact_ = 0;     // filament since the last G92 without rounding, mm
+  double extruded_ = 0;    // all filament extruded, mm
+  long feed_ = -1;         // mm/min
+  bool retracted_ = false;
+  int tool_ = 0;
+  int layer_index_ = 0;
+  bool first_travel_of_layer_ = true;
+  std::optional<PathType> type_;
+  long long width_ = -1;  // the ;WIDTH: and ;HEIGHT: in effect, mm / 1000
+  long long height_ = -1;
+};
+
+struct Placement {
+  Eigen::Vector2d offset;
+  Eigen::Vector2d min;  // bed coordinates, skirt included
+  Eigen::Vector2d max;
+};
+
+// Places the plate's bounding-box centre at `options.at` or the bed centre and checks that every
+// point of the print (skirt included) lies on the bed.
+Placement place(const Toolpath& toolpath, const std::vector<PathPolyline>& skirt,
+                const PrinterProfile& printer, const GcodeOptions& options) {
+  Eigen::Vector2d lo = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
+  Eigen::Vector2d hi = -lo;
+  for (const ToolpathLayer& layer : toolpath.layers) {
+    for (const PathPolyline& path : layer.paths) {
+      lo = lo.cwiseMin(path.points.leftCols<2>().colwise().minCoeff().transpose());
+      hi = hi.cwiseMax(path.points.leftCols<2>().colwise().maxCoeff().transpose());
+    }
+  }
+  if (!lo.allFinite()) throw std::invalid_argument("make_gcode: the toolpath has no path");
+  const Eigen::Vector2d plate_size = hi - lo;
+  Eigen::Vector2d all_lo = lo, all_hi = hi;
+  for (const PathPolyline& loop : skirt) {
+    all_lo = all_lo.cwiseMin(loop.points.leftCols<2>().colwise().minCoeff().transpose());
+    all_hi = all_hi.cwiseMax(loop.points.leftCols<2>().colwise().maxCoeff().transpose());
+  }
+  const Eigen::Vector2d center = options.at ? *options.at : bed_center(printer);
+  Placement placement;
+  placement.offset = center - (lo + hi) / 2;
+  placement.min = all_lo + placement.offset;
+  placement.max = all_hi + placement.offset;
+
+  bool fits = true;
+  auto check = [&](const Eigen::Matrix<double, Eigen::Dynamic, 3>& points) {
+    for (Eigen::Index i = 0; i < points.rows() && fits; ++i) {
+      fits = on_bed(printer, points.row(i).head<2>().transpose() + placement.offset, 1e-6);
+    }
+  };
+  if (printer.bed_shape == BedShape::kRectangular) {
+    fits = on_bed(printer, placement.min, 1e-6) && on_bed(printer, placement.max, 1e-6);
+  } else {
+    for (const ToolpathLayer& layer : toolpath.layers) {
+      for (const PathPolyline& path : layer.paths) check(path.points);
+    }
+    for (const PathPolyline& loop : skirt) check(loop.points);
+  }
+  if (fits) return placement;
+
+  const std::string with_skirt = skirt.empty()
+                                     ? ""
+                                     : fmt::format(" ({:.1f} x {:.1f} mm with the skirt)",
+                                                   (all_hi - all_lo).x(), (all_hi - all_lo).y());
+  const std::string bed = fmt::format("the {} bed of {}", describe_bed(printer), printer.name);
+  if (options.at) {
+    throw UserError(
+        ErrorCategory::kInfeasible,
+        fmt::format("the plate ({:.1f} x {:.1f} mm{}) placed at --at {:g},{:g} spans x [{:.1f}, "
+                    "{:.1f}], y [{:.1f}, {:.1f}] and leaves {}: move it or drop --at to centre it",
+                    plate_size.x(), plate_size.y(), with_skirt, options.at->x(), options.at->y(),
+                    placement.min.x(), placement.max.x(), placement.min.y(), placement.max.y(),
+                    bed));
+  }
+  throw UserError(ErrorCategory::kInfeasible,
+                  fmt::format("the plate is {:.1f} x {:.1f} mm{} and does not fit {}: scale the "
+                              "design down or choose a larger printer ('flatmorph printers')",
+                              plate_size.x(), plate_size.y(), with_skirt, bed));
+}
+
+std::string header(const PrinterProfile& printer, const Material& material,
+                   const Toolpath& toolpath, const GcodeOptions& options,
+                   const GcodeResult& result) {
+  std::string h;
+  auto add = [&h](const std::string& s) {
+    h += "; ";
+    h += s;
+    h += '\n';
+  };
+  add(fmt::format("generated by flatmorph {}", FLATMORPH_VERSION));
+  add("the plate self-shapes in hot water: print it on a clean bed, then immerse it");
+  h += ";\n";
+  add(fmt::format("estimated printing time (normal mode) = {}",
+                  format_duration(result.print_time)));
+  add(fmt::format("filament used [mm] = {:.2f}", result.filament_length));
+  add(fmt::format("filament used [cm3] = {:.2f}", result.filament_volume / 1000));
+  add(fmt::format("filament used [g] = {:.2f}", result.filament_mass));
+  add(fmt::format("total filament used [g] = {:.2f}", result.filament_mass));
+  add("(time: moves with acceleration and cornering limits; heating, homing, levelling and the "
+      "start G-code not included)");
+  h += ";\n";
+  add(fmt::format("printer = {}", printer.name));
+  if (!printer.description.empty())
+    add(fmt::format("printer_description = {}", printer.description));
+  add(fmt::format("gcode_flavor = {}", to_string(printer.flavor)));
+  add(fmt::format("bed = {} {}, origin at the {}", describe_bed(printer),
+                  printer.bed_shape == BedShape::kCircular ? "circular" : "rectangular",
+                  printer.origin_at_center ? "centre" : "front-left corner"));
+  add(fmt::format("nozzle_diameter = {:g} mm", printer.nozzle_diameter));
+  add(fmt::format("filament_diameter = {:g} mm", printer.filament_diameter));
+  add(printer.relative_e ? "extrusion = relative E (M83)"
+                         : "extrusion = absolute E (M82), G92 E0 at each layer");
+  add(fmt::format(
+      "extrusion_formula = E = segment length x width x layer height / (pi x {:g}^2 / 4)",
+      printer.filament_diameter));
+  add(
+      fmt::format("retraction = {:g} mm at {:g} mm/s{}, z-hop {:g} mm, for travels of {:g} mm and "
+                  "more and at layer changes",
+                  printer.retract_length, printer.retract_speed,
+                  printer.firmware_retraction ? " (firmware G10/G11)" : "", printer.z_hop,
+                  printer.retract_min_travel));
+  add(fmt::format(
+      "speeds = print {:g}, first layer {:g} (from the {}), travel {:g}, z {:g} mm/s",
+      material.print_speed > 0 ? material.print_speed : printer.print_speed,
+      material.first_layer_speed > 0 ? material.first_layer_speed : printer.first_layer_speed,
+      material.print_speed > 0 ? "material" : "printer", printer.travel_speed, printer.z_speed));
+  add(fmt::format("acceleration = print {:g}, travel {:g} mm/s^2; cornering {}",
+                  printer.print_acceleration, printer.travel_acceleration,
+                  printer.cornering == CorneringModel::kJerk
+                      ? fmt::format("jerk {:g} mm/s", printer.jerk)
+                      : fmt::format("junction deviation {:g} mm", printer.junction_deviation)));
+  h += ";\n";
+  add(fmt::format("material = {}", material.name));
+  if (!material.description.empty())
+    add(fmt::format("material_description = {}", material.description));
+  add(fmt::format("nozzle_temperature = {:g} C (safe range {:g}..{:g})",
+                  material.nozzle_temperature, material.min_nozzle_temperature,
+                  material.max_nozzle_temperature));
+  add(fmt::format("bed_temperature = {:g} C (at most {:g})", material.bed_temperature,
+                  material.max_bed_temperature));
+  add(fmt::format("fan = {:g} % from the second layer, {:g} % on the first", material.fan_speed,
+                  material.first_layer_fan_speed));
+  add(fmt::format("shrink = lambda1 {:g}, lambda2 {:g}, lambda3 {:g}, delta_lambda1 {:g}",
+                  material.lambda1, material.lambda2, material.lambda3, material.delta_lambda1));
+  add(fmt::format("density = {:g} g/cm3", material.density));
+  h += ";\n";
+  const Eigen::Vector2d& t = result.plate_to_bed;
+  add(
+      fmt::format("plate_to_bed = x_bed = x_plate {} {:.3f}, y_bed = y_plate {} {:.3f}, z_bed = "
+                  "z_plate (mm; plate coordinates as in flat.ply)",
+                  t.x() < 0 ? '-' : '+', std::abs(t.x()), t.y() < 0 ? '-' : '+', std::abs(t.y())));
+  add(options.at ? fmt::format("placement = plate centre at ({:g}, {:g}) (--at)", options.at->x(),
+                               options.at->y())
+                 : std::string("placement = centred on the bed"));
+  add(fmt::format("print_area = x [{:.3f}, {:.3f}], y [{:.3f}, {:.3f}] mm on the bed",
+                  result.print_min.x(), result.print_max.x(), result.print_min.y(),
+                  result.print_max.y()));
+  add(fmt::format("skirt = {} loop(s), {:g} mm from the plate", options.skirt_loops,
+                  options.skirt_distance));
+  std::string heights;
+  for (const ToolpathLayer& layer : toolpath.layers) {
+    heights += (heights.empty() ? "" : ", ") + fmt::format("{:g}", layer.height);
+  }
+  add(fmt::format("layers = {}, top at z = {:.3f} mm; heights {}", toolpath.layers.size(),
+                  toolpath.layers.back().z, heights));
+  h += ";\n";
+  return h;
+}
+
+// Counts the lines of `text` before offset `end`.
+int lines_before(const std::string& text, size_t end) {
+  return static_cast<int>(std::count(text.begin(), text.begin() + end, '\n'));
+}
+
+}  // namespace
+
+std::string_view prusaslicer_type_name(PathType type) {
+  switch (type) {
+    case PathType::kPerimeter:
+      return "Perimeter";
+    case PathType::kExternalPerimeter:
+      return "External perimeter";
+    case PathType::kSolidInfill:
+      return "Solid infill";
+    case PathType::kSkirt:
+      return "Skirt/Brim";
+    case PathType::kCustom:
+      return "Custom";
+  }
+  return "Custom";
+}
+
+std::vector<PathPolyline> skirt_loops(const Toolpath& toolpath, int loops, double distance,
+                                      double width, double layer_height) {
+  std::vector<PathPolyline> result;
+  if (loops <= 0 || toolpath.layers.empty()) return result;
+  const ToolpathLayer& first = toolpath.layers.front();
+  std::vector<Eigen::Vector2d> points;
+  for (const PathPolyline& path : first.paths) {
+    for (Eigen::Index i = 0; i < path.points.rows(); ++i) {
+      points.emplace_back(path.points(i, 0), path.points(i, 1));
+    }
+  }
+  if (points.empty()) return result;
+  const std::vector<Eigen::Vector2d> hull = convex_hull(points);
+  for (int k = loops - 1; k >= 0; --k) {
+    // The bead's centre line lies half a width outside the gap.
+    const std::vector<Eigen::Vector2d> ring = offset_hull(hull, distance + (k + 0.5) * width);
+    PathPolyline loop;
+    loop.type = PathType::kSkirt;
+    loop.closed = true;
+    loop.points.resize(static_cast<Eigen::Index>(ring.size()) + 1, 3);
+    for (size_t i = 0; i <= ring.size(); ++i) {
+      const Eigen::Vector2d& q = ring[i % ring.size()];
+      loop.points.row(static_cast<Eigen::Index>(i)) << q.x(), q.y(), first.z;
+    }
+    SegmentStyle style;
+    style.width = width;
+    style.layer_height = layer_height;
+    style.feed_rate = 0;
+    loop.segments.assign(ring.size(), style);
+    result.push_back(std::move(loop));
+  }
+  return result;
+}
+
+GcodeResult make_gcode(const Toolpath& toolpath, const PrinterProfile& printer,
+                       const Material& material, const GcodeOptions& options) {
+  validate_toolpath(toolpath, printer);
+  if (options.skirt_loops < 0 || !(options.skirt_distance >= 0)) {
+    throw UserError(ErrorCategory::kOption,
+                    fmt::format("skirt: {} loops at {} mm; expected 0 or more loops at a distance "
+                                ">= 0",
+                                options.skirt_loops, options.skirt_distance));
+  }
+
+  // The skirt is as wide and as high as the first extruded segment of the first layer.
+  double skirt_width = printer.nozzle_diameter;
+  double skirt_height = toolpath.layers.front().height;
+  for (const PathPolyline& path : toolpath.layers.front().paths) {
+    const auto it = std::find_if(path.segments.begin(), path.segments.end(),
+                                 [](const SegmentStyle& s) { return !s.travel; });
+    if (it != path.segments.end()) {
+      skirt_width = it->width;
+      skirt_height = it->layer_height;
+      break;
+    }
+  }
+  const std::vector<PathPolyline> skirt =
+      skirt_loops(toolpath, options.skirt_loops, options.skirt_distance, skirt_width, skirt_height);
+  const Placement placement = place(toolpath, skirt, printer, options);
+
+  double top = 0;
+  for (const ToolpathLayer& layer : toolpath.layers) {
+    for (const PathPolyline& path : layer.paths) top = std::max(top, path.points.col(2).maxCoeff());
+  }
+  const double highest = top + std::max(printer.z_hop, kFirstTravelLift);
+  if (highest > printer.max_height) {
+    throw UserError(ErrorCategory::kInfeasible,
+                    fmt::format("the print reaches z = {:.2f} mm (with travel lifts) but {} "
+                                "reaches only {:g} mm: use fewer or thinner layers",
+                                highest, printer.name, printer.max_height));
+  }
+
+  GcodeResult result;
+  result.plate_to_bed = placement.offset;
+  result.print_min = placement.min;
+  result.print_max = placement.max;
+
+  // Which tools the print uses, to heat and cool the others than T0.
+  std::set<int> tools;
+  for (const ToolpathLayer& layer : toolpath.layers) {
+    for (const PathPolyline& path : layer.paths) {
+      for (const SegmentStyle& s : path.segments) tools.insert(s.tool);
+    }
+  }
+
+  Emitter emit(printer, material, placement.offset);
+  // Prologue: the E mode, said explicitly whatever the start G-code did.
+  emit.line("; ---- flatmorph: print begins");
+  emit.line("G90 ; absolute X, Y, Z");
+  emit.line(printer.relative_e ? "M83 ; relative E" : "M82 ; absolute E");
+  emit.line("G92 E0");
+  for (int tool : tools) {
+    if (tool > 0) {
+      emit.line(
+          fmt::format("M109 T{} S{:.0f} ; heat tool {}", tool, material.nozzle_temperature, tool));
+    }
+  }
+  emit.line(fan_command(printer.flavor, material.first_layer_fan_speed));
+  const std::string prologue = std::move(emit.out());
+  emit.out().clear();
+
+  std::vector<std::string> layer_texts;
+  for (size_t k = 0; k < toolpath.layers.size(); ++k) {
+    const ToolpathLayer& layer = toolpath.layers[k];
+    emit.begin_layer(layer, static_cast<int>(k));
+    if (k == 1 && material.fan_speed != material.first_layer_fan_speed) {
+      emit.line(fan_command(printer.flavor, material.fan_speed));
+    }
+    if (k == 0) {
+      for (const PathPolyline& loop : skirt) emit.path(loop);
+    }
+    for (const PathPolyline& path : layer.paths) emit.path(path);
+    if (k + 1 == toolpath.layers.size()) {
+      emit.retract();
+      emit.line("M107 ; fan off");
+      for (int tool : tools) {
+        if (tool > 0) emit.line(fmt::format("M104 T{} S0 ; tool {} heater off", tool, tool));
+      }
+    }
+    // Layers are estimated one by one, each from rest to rest: they are joined by a retraction or
+    // a z move, where the head stops anyway.
+    result.layer_times.push_back(estimate_time(emit.motions(), motion_limits(printer)));
+    emit.motions().clear();
+    layer_texts.push_back(std::move(emit.out()));
+    emit.out().clear();
+  }
+  for (double t : result.layer_times) result.print_time += t;
+  result.filament_length = emit.extruded();
+  result.filament_volume = result.filament_length * filament_area(printer);
+  result.filament_mass = result.filament_volume / 1000 * material.density;
+
+  const double max_z = toolpath.layers.back().z;
+  const std::vector<std::pair<std::string, std::string>> values = {
+      {"nozzle_temperature", fmt::format("{:.0f}", material.nozzle_temperature)},
+      {"bed_temperature", fmt::format("{:.0f}", material.bed_temperature)},
+      {"first_layer_height", fixed(toolpath.layers.front().height, 3)},
+      {"nozzle_diameter", fmt::format("{:g}", printer.nozzle_diameter)},
+      {"filament_diameter", fmt::format("{:g}", printer.filament_diameter)},
+      {"bed_size_x", fmt::format("{:g}", printer.bed_size.x())},
+      {"bed_size_y", fmt::format("{:g}", printer.bed_size.y())},
+      {"max_height", fmt::format("{:g}", printer.max_height)},
+      {"min_x", fixed(placement.min.x(), 3)},
+      {"min_y", fixed(placement.min.y(), 3)},
+      {"max_x", fixed(placement.max.x(), 3)},
+      {"max_y", fixed(placement.max.y(), 3)},
+      {"size_x", fixed(placement.max.x() - placement.min.x(), 3)},
+      {"size_y", fixed(placement.max.y() - placement.min.y(), 3)},
+      {"center_x", fixed((placement.min.x() + placement.max.x()) / 2, 3)},
+      {"center_y", fixed((placement.min.y() + placement.max.y()) / 2, 3)},
+      {"max_z", fixed(max_z, 3)},
+      {"park_z", fixed(std::min(max_z + kParkClearance, printer.max_height), 3)},
+      {"layer_count", std::to_string(toolpath.layers.size())},
+      {"travel_feed_rate", std::to_string(std::lround(printer.travel_speed * 60))},
+      {"printer_name", printer.name},
+      {"material_name", material.name},
+  };
+  const std::string source = fmt::format("printer {}", printer.name);
+  const std::string start = expand_gcode_template(printer.start_gcode, values, source);
+  const std::string end = expand_gcode_template(printer.end_gcode, values, source);
+
+  std::string& text = result.text;
+  text = header(printer, material, toolpath, options, result);
+  text += "; ---- start G-code of the printer profile\n";
+  const size_t start_begin = text.size();
+  text += start;
+  if (!start.empty() && start.back() != '\n') text += '\n';
+  const size_t start_end = text.size();
+  text += prologue;
+  const bool progress =
+      printer.flavor == GcodeFlavor::kMarlin || printer.flavor == GcodeFlavor::kBambu;
+  double elapsed = 0;
+  for (size_t k = 0; k < layer_texts.size(); ++k) {
+    if (progress) {
+      // M73: percentage done and minutes left, shown on the printer's display.
+      const double percent = result.print_time > 0 ? 100 * elapsed / result.print_time : 0;
+      text += fmt::format("M73 P{} R{}\n", static_cast<int>(percent),
+                          static_cast<long>(std::ceil((result.print_time - elapsed) / 60)));
+    }
+    text += layer_texts[k];
+    elapsed += result.layer_times[k];
+  }
+  if (progress) text += "M73 P100 R0\n";
+  text += "; ---- end G-code of the printer profile\n";
+  const size_t end_begin = text.size();
+  text += end;
+  if (!end.empty() && end.back() != '\n') text += '\n';
+  const size_t end_end = text.size();
+  text += "; ---- end of file\n";
+
+  const std::vector<GcodeViolation> violations = check_gcode(text, printer, material, 1);
+  if (!violations.empty()) {
+    const GcodeViolation& v = violations.front();
+    const int start_first = lines_before(text, start_begin) + 1;
+    const int start_last = lines_before(text, start_end);
+    const int end_first = lines_before(text, end_begin) + 1;
+    const int end_last = lines_before(text, end_end);
+    if (v.line >= start_first && v.line <= start_last) {
+      throw UserError(
+          ErrorCategory::kProfile,
+          fmt::format("printer {}: start_gcode line {} is unsafe ({}: {}); fix the "
+                      "profile",
+                      printer.name, v.line - start_first + 1, to_string(v.kind), v.reason));
+    }
+    if (v.line >= end_first && v.line <= end_last) {
+      throw UserError(
+          ErrorCategory::kProfile,
+          fmt::format("printer {}: end_gcode line {} is unsafe ({}: {}); fix the "
+                      "profile",
+                      printer.name, v.line - end_first + 1, to_string(v.kind), v.reason));
+    }
+    throw std::logic_error(
+        fmt::format("the G-code written for {} fails its safety check at line "
+                    "{} ({}: {}); this is a bug of flatmorph, please report it",
+                    printer.name, v.line, to_string(v.kind), v.reason));
+  }
+  return result;
+}
+
+GcodeResult write_gcode(const std::filesystem::path& path, const Toolpath& toolpath,
+                        const PrinterProfile& printer, const Material& material,
+                        const GcodeOptions& options) {
+  GcodeResult result = make_gcode(toolpath, printer, material, options);
+  write_file_atomically(path, true, [&](std::ostream& out) { out << result.text; });
+  return result;
+}
+
+}  // namespace flatmorph

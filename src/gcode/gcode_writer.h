@@ -1,0 +1,62 @@
+// Toolpath + printer + material -> G-code a real printer accepts. The writer never decides
+// geometry: it places the plate on the bed, turns segment lengths into filament, travels with
+// retraction and z-hop, annotates layers the way PrusaSlicer's viewer reads them, estimates time
+// and filament, and refuses a plate that does not fit. Plate coordinates (as in flat.ply and the
+// Toolpath) map to bed coordinates by a translation in x and y: bed = plate + plate_to_bed, z
+// unchanged. Lengths in mm, speeds in mm/s, temperatures in degrees C. docs/gcode.md describes the
+// output line by line.
+#pragma once
+
+#include <Eigen/Core>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "gcode/printer_profile.h"
+#include "material/material.h"
+#include "toolpath/toolpath.h"
+
+namespace flatmorph {
+
+struct GcodeOptions {
+  // Where the centre of the plate's bounding box goes on the bed (bed coordinates, mm, as the
+  // firmware sees them: `--at X,Y`). Unset: the centre of the bed.
+  std::optional<Eigen::Vector2d> at;
+  // Skirt loops printed around the plate on the first layer (0: none), and their gap to the plate.
+  int skirt_loops = 0;
+  double skirt_distance = 3.0;  // mm
+};
+
+struct GcodeResult {
+  std::string text;                    // the whole file
+  Eigen::Vector2d plate_to_bed{0, 0};  // mm: bed = plate + plate_to_bed
+  Eigen::Vector2d print_min{0, 0};     // bed coordinates of the print's bounding box (mm),
+  Eigen::Vector2d print_max{0, 0};     // skirt included
+  double print_time = 0;               // s, moves of the print (start G-code excluded)
+  std::vector<double> layer_times;     // s per layer
+  double filament_length = 0;          // mm of filament extruded
+  double filament_volume = 0;          // mm^3
+  double filament_mass = 0;            // g
+};
+
+// The G-code of `toolpath` for `printer` and `material`. The result has passed check_gcode (a
+// violation is a bug of the writer or the profile: std::logic_error). Throws UserError(kInfeasible)
+// when the plate does not fit the bed or the printer's height, or needs a tool the printer lacks.
+GcodeResult make_gcode(const Toolpath& toolpath, const PrinterProfile& printer,
+                       const Material& material, const GcodeOptions& options = {});
+
+// make_gcode, then writes the text to `path` atomically.
+GcodeResult write_gcode(const std::filesystem::path& path, const Toolpath& toolpath,
+                        const PrinterProfile& printer, const Material& material,
+                        const GcodeOptions& options = {});
+
+// The PrusaSlicer ;TYPE: name of a path type ("Solid infill", "Skirt/Brim", ...).
+std::string_view prusaslicer_type_name(PathType type);
+
+// The skirt loops around the first layer of `toolpath`: closed polylines in plate coordinates,
+// outermost first, offset from the convex hull of the layer by `distance` + k x `width` (mm).
+std::vector<PathPolyline> skirt_loops(const Toolpath& toolpath, int loops, double distance,
+                                      double width, double layer_height);
+
+}  // namespace flatmorph

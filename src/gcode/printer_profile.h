@@ -1,0 +1,106 @@
+// A printer as the G-code writer and the safety check need it: bed, nozzle, firmware dialect,
+// start/end G-code, retraction, speeds and motion limits. Lengths in mm, speeds in mm/s,
+// accelerations in mm/s^2, in the firmware's (bed) coordinates. Profiles are JSON files: the
+// presets shipped in profiles/printers/ (selected by name) or a user's file (docs/gcode.md).
+#pragma once
+
+#include <Eigen/Core>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace flatmorph {
+
+// The G-code dialect: which commands exist and how a few of them are spelled.
+enum class GcodeFlavor { kMarlin, kKlipper, kRepRapFirmware, kBambu };
+
+enum class BedShape { kRectangular, kCircular };
+
+// How the planner of the firmware limits the speed through a corner.
+enum class CorneringModel {
+  kJunctionDeviation,  // Marlin 2 / grbl; Klipper's square_corner_velocity is converted to this
+  kJerk,               // classic jerk: the largest instantaneous speed change per axis
+};
+
+struct PrinterProfile {
+  std::string name;
+  std::string description;
+  GcodeFlavor flavor = GcodeFlavor::kMarlin;
+
+  // The printable bed. Rectangular: bed_size is its width (x) and depth (y). Circular: both are the
+  // diameter. Corner origin: the bed spans [0, size]; centre origin: [-size/2, size/2].
+  BedShape bed_shape = BedShape::kRectangular;
+  bool origin_at_center = false;
+  Eigen::Vector2d bed_size{220, 220};  // mm
+  double max_height = 250;             // mm, highest nozzle position
+  // Where the head may go (rectangular beds), which can be wider than the printable bed: the purge
+  // line of a Prusa runs at y = -3. Equal to the bed when the profile does not say.
+  Eigen::Vector2d axis_min{0, 0};      // mm
+  Eigen::Vector2d axis_max{220, 220};  // mm
+
+  double nozzle_diameter = 0.4;     // mm
+  double filament_diameter = 1.75;  // mm
+  int extruder_count = 1;
+  bool relative_e = false;  // M83 (relative) rather than M82 (absolute) extrusion distances
+
+  double retract_length = 1.0;       // mm of filament
+  double retract_speed = 35;         // mm/s
+  double z_hop = 0.2;                // mm lift during retracted travels (0: none)
+  double retract_min_travel = 2.0;   // mm: shorter travels neither retract nor lift
+  bool firmware_retraction = false;  // G10/G11 instead of E moves
+
+  // Default speeds (mm/s); the material's own print speeds take precedence (material.h).
+  double print_speed = 40;
+  double first_layer_speed = 20;
+  double travel_speed = 120;
+  double z_speed = 10;  // for moves along z alone (layer changes, z-hop)
+
+  double print_acceleration = 1000;   // mm/s^2 for extruding moves
+  double travel_acceleration = 1000;  // mm/s^2 for the others
+  CorneringModel cornering = CorneringModel::kJunctionDeviation;
+  double junction_deviation = 0.013;  // mm (kJunctionDeviation)
+  double jerk = 8;                    // mm/s (kJerk)
+
+  // Templates with {placeholders} (gcode_placeholders()); lines separated by '\n'.
+  std::string start_gcode;
+  std::string end_gcode;
+};
+
+// Presets in a fixed order (alphabetical).
+std::vector<std::string> printer_preset_names();
+
+// A preset by name, or the printer JSON file at `name_or_path`. Throws UserError: kOption for an
+// unknown name that is no file either, kProfile for a malformed profile (the message names the
+// file, the key and the fix: missing key, wrong type, negative size, unknown flavor, unknown
+// placeholder, unknown key, an end G-code that leaves heaters or motors on).
+PrinterProfile load_printer(const std::string& name_or_path);
+
+// Parses the JSON text of a profile; `source` names it in error messages.
+PrinterProfile parse_printer(std::string_view json_text, const std::string& source);
+
+std::string_view to_string(GcodeFlavor flavor);
+
+// A one-line summary of the bed: "300 x 300 mm, 400 mm high" or "200 mm round, centre origin".
+std::string describe_bed(const PrinterProfile& printer);
+
+// The centre of the bed in bed coordinates (mm).
+Eigen::Vector2d bed_center(const PrinterProfile& printer);
+
+// Whether the point (bed coordinates, mm) lies on the printable bed, within `tolerance` mm.
+bool on_bed(const PrinterProfile& printer, const Eigen::Vector2d& p, double tolerance);
+
+// A placeholder the start and end templates may use, with its meaning.
+struct GcodePlaceholder {
+  std::string_view name;
+  std::string_view meaning;
+};
+const std::vector<GcodePlaceholder>& gcode_placeholders();
+
+// Replaces every {name} in `text` by values[name] ("{{" and "}}" stand for braces). Throws
+// UserError(kProfile) naming `source` and the line for an unknown or unclosed placeholder; with an
+// empty `values`, only checks the template.
+std::string expand_gcode_template(std::string_view text,
+                                  const std::vector<std::pair<std::string, std::string>>& values,
+                                  const std::string& source);
+
+}  // namespace flatmorph

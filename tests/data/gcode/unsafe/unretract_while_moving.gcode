@@ -1,0 +1,19 @@
+; the retracted filament pushed back during a 50 mm travel
+; expect: unretract-while-moving 15
+M140 S55 ; bed
+M104 S190 ; nozzle
+G28 ; home
+M190 S55
+M109 S190
+G90
+M83 ; relative E
+G92 E0
+G1 Z0.2 F600
+G1 X20 Y20 F3000
+G1 X60 Y20 E1.5 F1200
+G1 E-2 F2400
+G1 X100 Y50 E2 F3000 ; <-- unsafe
+G1 Z10 F600
+M104 S0
+M140 S0
+M84
