@@ -1,0 +1,236 @@
+#include "numerics/newton.h"
+
+#include <Eigen/CholmodSupport>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+namespace flatmorph {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+// The Hessian restricted to the free variables, built once from the full lower-triangular pattern:
+// entries are copied by index, so each iteration costs one pass over the nonzeros.
+class ReducedHessian {
+ public:
+  ReducedHessian(const Eigen::SparseMatrix<double>& full, const std::vector<int>& reduced_index,
+                 int num_free) {
+    std::vector<Eigen::Triplet<double>> triplets;
+    for (int col = 0; col < full.outerSize(); ++col) {
+      if (reduced_index[col] < 0) continue;
+      for (Eigen::SparseMatrix<double>::InnerIterator it(full, col); it; ++it) {
+        if (reduced_index[it.row()] < 0) continue;
+        // Column-major, rows ascending within a column: the reduced matrix has its nonzeros in the
+        // same relative order, so the k-th kept entry lands in slot k.
+        kept_.push_back(static_cast<int>(&it.value() - full.valuePtr()));
+        triplets.emplace_back(reduced_index[it.row()], reduced_index[col], 0.0);
+      }
+    }
+    matrix_.resize(num_free, num_free);
+    matrix_.setFromTriplets(triplets.begin(), triplets.end());
+    matrix_.makeCompressed();
+    full_nonzeros_ = full.nonZeros();
+  }
+
+  bool matches(const Eigen::SparseMatrix<double>& full) const {
+    return full.nonZeros() == full_nonzeros_;
+  }
+
+  const Eigen::SparseMatrix<double>& update(const Eigen::SparseMatrix<double>& full) {
+    double* out = matrix_.valuePtr();
+    const double* in = full.valuePtr();
+    for (size_t k = 0; k < kept_.size(); ++k) out[k] = in[kept_[k]];
+    return matrix_;
+  }
+
+ private:
+  std::vector<int> kept_;
+  Eigen::SparseMatrix<double> matrix_;
+  Eigen::Index full_nonzeros_ = 0;
+};
+
+bool all_finite(const Eigen::VectorXd& v) { return v.allFinite(); }
+
+}  // namespace
+
+std::string_view to_string(NewtonStatus status) {
+  switch (status) {
+    case NewtonStatus::kConverged:
+      return "converged";
+    case NewtonStatus::kIterationLimit:
+      return "iteration limit reached";
+    case NewtonStatus::kLineSearchFailed:
+      return "line search failed";
+    case NewtonStatus::kNonFinite:
+      return "non-finite energy, gradient or step";
+    case NewtonStatus::kFactorizationFailed:
+      return "Hessian factorization failed";
+  }
+  return "unknown";
+}
+
+NewtonResult newton_minimize(const NewtonProblem& problem, const Eigen::VectorXd& x0,
+                             const NewtonOptions& options) {
+  const int n = problem.num_variables;
+  NewtonResult result;
+  result.x = x0;
+
+  std::vector<int> reduced_index(n, 0);
+  for (int v : problem.fixed_variables) reduced_index[v] = -1;
+  std::vector<int> free_variables;
+  for (int i = 0; i < n; ++i) {
+    if (reduced_index[i] == 0) {
+      reduced_index[i] = static_cast<int>(free_variables.size());
+      free_variables.push_back(i);
+    }
+  }
+  const int num_free = static_cast<int>(free_variables.size());
+  auto restrict = [&](const Eigen::VectorXd& full) {
+    Eigen::VectorXd r(num_free);
+    for (int i = 0; i < num_free; ++i) r(i) = full(free_variables[i]);
+    return r;
+  };
+
+  Eigen::VectorXd gradient(n);
+  Eigen::SparseMatrix<double> hessian(n, n);
+  auto start = Clock::now();
+  result.energy = problem.evaluate(result.x, &gradient, &hessian, false);
+  result.assembly_seconds += seconds_since(start);
+  if (!std::isfinite(result.energy) || !all_finite(gradient)) {
+    result.status = NewtonStatus::kNonFinite;
+    return result;
+  }
+  Eigen::VectorXd g = restrict(gradient);
+  result.gradient_norm = g.norm();
+  if (num_free == 0) {
+    result.status = NewtonStatus::kConverged;
+    return result;
+  }
+
+  ReducedHessian reduced(hessian, reduced_index, num_free);
+  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> solver;
+  solver.cholmod().print = 0;  // a failed factorization is expected (indefinite Hessian), not news
+  bool analyzed = false;
+  auto factorize = [&](const Eigen::SparseMatrix<double>& full, double shift) {
+    const auto t0 = Clock::now();
+    if (!reduced.matches(full)) {
+      reduced = ReducedHessian(full, reduced_index, num_free);
+      analyzed = false;
+    }
+    const Eigen::SparseMatrix<double>& h = reduced.update(full);
+    if (!analyzed) {
+      solver.analyzePattern(h);
+      analyzed = true;
+    }
+    solver.setShift(shift);
+    solver.factorize(h);
+    result.factorization_seconds += seconds_since(t0);
+    return solver.info() == Eigen::Success;
+  };
+
+  result.status = NewtonStatus::kIterationLimit;
+  for (int iteration = 0; iteration < options.max_iterations; ++iteration) {
+    NewtonIteration record;
+    record.energy = result.energy;
+    bool ok = factorize(hessian, 0.0);
+    if (!ok) {
+      record.exact_hessian = false;
+      start = Clock::now();
+      problem.evaluate(result.x, nullptr, &hessian, true);
+      result.assembly_seconds += seconds_since(start);
+      ok = factorize(hessian, 0.0);
+      // A sum of PSD element Hessians can still be singular (flat directions no element sees):
+      // shift it by growing multiples of its largest diagonal entry until it factorizes.
+      const double scale = reduced.update(hessian).diagonal().cwiseAbs().maxCoeff();
+      for (double s = 1e-12; !ok && s <= 1e-2; s *= 100) ok = factorize(hessian, s * scale);
+      if (!ok) {
+        result.status = NewtonStatus::kFactorizationFailed;
+        break;
+      }
+    }
+    start = Clock::now();
+    const Eigen::VectorXd d_free = solver.solve(-g);
+    result.solve_seconds += seconds_since(start);
+    if (!all_finite(d_free)) {
+      result.status = NewtonStatus::kNonFinite;
+      break;
+    }
+    const double slope = g.dot(d_free);
+    record.decrement = -0.5 * slope;
+    if (record.exact_hessian && record.decrement < options.tolerance) {
+      result.status = NewtonStatus::kConverged;
+      result.history.push_back(record);
+      break;
+    }
+    if (!(slope < 0)) {
+      result.status = NewtonStatus::kLineSearchFailed;
+      result.history.push_back(record);
+      break;
+    }
+    Eigen::VectorXd direction = Eigen::VectorXd::Zero(n);
+    for (int i = 0; i < num_free; ++i) direction(free_variables[i]) = d_free(i);
+
+    start = Clock::now();
+    double step = 1.0;
+    bool accepted = false;
+    Eigen::VectorXd trial;
+    double trial_energy = 0.0;
+    for (int k = 0; k < options.max_line_search_steps; ++k, step *= options.backtracking_factor) {
+      trial = result.x + step * direction;
+      if (problem.is_feasible && !problem.is_feasible(trial)) continue;
+      trial_energy = problem.evaluate(trial, nullptr, nullptr, false);
+      if (std::isfinite(trial_energy) &&
+          trial_energy <= result.energy + options.armijo_constant * step * slope) {
+        accepted = true;
+        break;
+      }
+    }
+    // Away from a minimum the projected Hessian overestimates the curvature along directions where
+    // the true one is negative (a buckling plate leaving a saddle), and full steps keep being
+    // accepted while the energy falls faster than predicted. Doubling the step while the energy
+    // keeps falling escapes such regions in a few cheap energy evaluations instead of many Newton
+    // iterations.
+    if (accepted && step == 1.0 && !record.exact_hessian) {
+      for (int k = 0; k < options.max_line_search_steps; ++k) {
+        const Eigen::VectorXd longer = result.x + 2 * step * direction;
+        if (problem.is_feasible && !problem.is_feasible(longer)) break;
+        const double longer_energy = problem.evaluate(longer, nullptr, nullptr, false);
+        if (!(longer_energy < trial_energy)) break;
+        step *= 2;
+        trial = longer;
+        trial_energy = longer_energy;
+      }
+    }
+    result.line_search_seconds += seconds_since(start);
+    if (!accepted) {
+      result.status = NewtonStatus::kLineSearchFailed;
+      result.history.push_back(record);
+      break;
+    }
+    record.step = step;
+    result.history.push_back(record);
+    ++result.iterations;
+    if (!record.exact_hessian) ++result.projected_iterations;
+
+    start = Clock::now();
+    Eigen::VectorXd trial_gradient(n);
+    const double energy = problem.evaluate(trial, &trial_gradient, &hessian, false);
+    result.assembly_seconds += seconds_since(start);
+    if (!std::isfinite(energy) || !all_finite(trial_gradient)) {
+      result.status = NewtonStatus::kNonFinite;  // keep the last good state
+      break;
+    }
+    result.x = std::move(trial);
+    result.energy = energy;
+    g = restrict(trial_gradient);
+    result.gradient_norm = g.norm();
+  }
+  return result;
+}
+
+}  // namespace flatmorph

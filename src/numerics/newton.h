@@ -1,0 +1,86 @@
+// Newton's method for smooth unconstrained minimization over many variables with a sparse Hessian
+// (the plate simulation, the flattening's smoothing step).
+//
+// Each iteration tries the exact Hessian first (fast, quadratic convergence near a minimum); when
+// its Cholesky factorization fails (the Hessian is not positive definite, e.g. while a flat plate
+// buckles) it falls back to the Hessian assembled from per-element Hessians projected onto the PSD
+// cone, which always gives a descent direction. Steps are chosen by Armijo backtracking. The
+// sparsity pattern is fixed, so CHOLMOD's symbolic analysis (fill-reducing ordering) is done once.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+#include <functional>
+#include <string_view>
+#include <vector>
+
+namespace flatmorph {
+
+struct NewtonProblem {
+  int num_variables = 0;
+  // Returns the objective at x. When `gradient` is not null, writes the gradient (size
+  // num_variables). When `hessian` is not null, writes the Hessian's LOWER triangle (row >= column)
+  // as a compressed num_variables^2 sparse matrix whose sparsity pattern is the same at every call
+  // (whatever x and `project` are; store explicit zeros if needed). With `project` true, each
+  // element's Hessian is projected onto the PSD cone before it is summed.
+  std::function<double(const Eigen::VectorXd& x, Eigen::VectorXd* gradient,
+                       Eigen::SparseMatrix<double>* hessian, bool project)>
+      evaluate;
+  // Variables kept at their starting values (e.g. to remove rigid motions). Sorted or not.
+  std::vector<int> fixed_variables;
+  // Optional: line-search trial points for which this returns false are rejected as if their
+  // energy were infinite (the flattening rejects steps that flip a triangle).
+  std::function<bool(const Eigen::VectorXd& x)> is_feasible;
+};
+
+struct NewtonOptions {
+  int max_iterations = 1000;
+  // Stop when the Newton decrement -g.d/2 (the predicted energy decrease, in the objective's
+  // units) of an exact-Hessian step is below this.
+  double tolerance = 1e-6;
+  double armijo_constant = 1e-4;  // sufficient decrease: E(x + s d) <= E(x) + c s g.d
+  double backtracking_factor = 0.5;
+  int max_line_search_steps = 60;
+};
+
+enum class NewtonStatus {
+  kConverged,           // Newton decrement below tolerance with the exact Hessian
+  kIterationLimit,      // max_iterations reached
+  kLineSearchFailed,    // no step along the Newton direction decreased the energy enough
+  kNonFinite,           // the energy, the gradient or the step became NaN or infinite
+  kFactorizationFailed  // even the projected (and shifted) Hessian could not be factorized
+};
+
+std::string_view to_string(NewtonStatus status);
+
+struct NewtonIteration {
+  double energy = 0.0;     // at the start of the iteration
+  double decrement = 0.0;  // -g.d/2 for the direction taken
+  double step = 0.0;       // accepted line-search step (0 when none)
+  bool exact_hessian = true;
+};
+
+struct NewtonResult {
+  Eigen::VectorXd x;  // the best (lowest-energy) state reached
+  double energy = 0.0;
+  double gradient_norm = 0.0;    // of the free variables, at x
+  int iterations = 0;            // Newton steps taken
+  int projected_iterations = 0;  // of which used the projected Hessian
+  NewtonStatus status = NewtonStatus::kIterationLimit;
+  std::vector<NewtonIteration> history;
+  // Wall-clock seconds spent in: energy+gradient+Hessian evaluations, numeric Cholesky
+  // factorizations (symbolic analysis included), triangular solves, line-search energy evaluations.
+  double assembly_seconds = 0.0;
+  double factorization_seconds = 0.0;
+  double solve_seconds = 0.0;
+  double line_search_seconds = 0.0;
+
+  bool converged() const { return status == NewtonStatus::kConverged; }
+};
+
+// Minimizes problem.evaluate starting from x0 (size num_variables). Never throws on numerical
+// trouble: it stops and returns the best state with the reason in `status`.
+NewtonResult newton_minimize(const NewtonProblem& problem, const Eigen::VectorXd& x0,
+                             const NewtonOptions& options = {});
+
+}  // namespace flatmorph

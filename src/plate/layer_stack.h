@@ -1,0 +1,53 @@
+// What is printed in each layer of a flat plate: the shared output of every design method
+// (DESIGN.md, "a plate is a stack of printed layers").
+//
+// Layers are numbered from the bed up: layers[0] is layer 1, the one printed on the bed. Per-face
+// quantities are indexed like the plate's faces. Angles in radians in the plate's frame, measured
+// from +x counter-clockwise; thicknesses in mm; shrink ratios are new length / printed length.
+#pragma once
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "material/material.h"
+
+namespace flatmorph {
+
+struct Layer {
+  double printed_thickness = 0.0;  // mm, before heating
+  std::string material;            // Material::name
+  Eigen::VectorXd theta;           // per face: deposition direction (rad)
+  // Per face shrink ratios after heating. lambda1 is the mean over the layer's thickness;
+  // delta_lambda1 is lambda1 at the layer's top minus lambda1 at its bottom (lambda1 varies
+  // linearly through the layer: the bilayer effect of Shrink & Morph §4.2 seen from one layer).
+  Eigen::VectorXd lambda1;
+  Eigen::VectorXd delta_lambda1;
+  Eigen::VectorXd lambda2;
+  Eigen::VectorXd lambda3;
+  // Per face: false where this layer prints nothing (holes between tiles, hinge-only faces). The
+  // layers that do cover a face are stacked without gaps in that face's laminate.
+  std::vector<bool> covered;
+};
+
+struct LayerStack {
+  std::vector<Layer> layers;  // bottom (on the bed) first
+
+  int num_layers() const { return static_cast<int>(layers.size()); }
+  int num_faces() const { return layers.empty() ? 0 : static_cast<int>(layers[0].theta.size()); }
+};
+
+// The Shrink & Morph layer stack (paper §3.2.3 and §4.2): num_layers layers of layer_height mm of
+// `material`, layer k (k = 1 on the bed) printed along theta^k = theta1 + ((k-1)/(n-1) - 1/2)
+// theta2 (the paper's printing rule; a single layer prints theta1), and lambda1 varying linearly
+// through the whole printed thickness h as lambda1(z) = lambda1 + (z/h) delta_lambda1 with z from
+// the mid-plane toward the top (Eq. 15). theta1 and theta2 are per face (rad). Throws UserError
+// on sizes that differ, num_layers < 1 or layer_height <= 0.
+LayerStack shrink_morph_layer_stack(const Eigen::VectorXd& theta1, const Eigen::VectorXd& theta2,
+                                    const Material& material, int num_layers, double layer_height);
+
+// A per-vertex field averaged to faces (the plain mean of the three corners), as the paper does
+// for theta2 (§3.2.2).
+Eigen::VectorXd vertex_to_face_average(const Eigen::MatrixXi& F, const Eigen::VectorXd& values);
+
+}  // namespace flatmorph

@@ -1,0 +1,82 @@
+// Predicting the shape a printed plate takes in hot water: the equilibrium of the plate energy
+// (plate_energy.h) found by Newton's method (numerics/newton.h).
+//
+// Rigid motions are removed exactly by a 3-2-1 constraint on the plate's central face (the face
+// whose rest centroid is nearest the mean of the plate's vertices): the start shape is moved so
+// that this face's first vertex is at the origin, its first edge along +x and the face in the xy
+// plane; then x, y, z of its first vertex, y, z of its second and z of its third are fixed, which
+// removes the six rigid motions and nothing else (the face stays free to stretch and bend). The
+// result is moved back, so it stays registered to the start shape at that face
+// (docs/simulation.md).
+#pragma once
+
+#include <Eigen/Core>
+
+#include "numerics/newton.h"
+#include "plate/laminate.h"
+#include "simulate/plate_energy.h"
+
+namespace flatmorph {
+
+// What to simulate: the flat plate and what it wants to become.
+struct PlateProblem {
+  Eigen::MatrixXd plate;  // #V x 2, mm, the printed plate
+  Eigen::MatrixXi F;      // #F x 3, counter-clockwise in the plate
+  RestForms rest_forms;   // per face ā, b̄ (1/mm), thickness (mm), material angle (rad)
+  Stiffness stiffness;
+};
+
+struct SimulationOptions {
+  int max_iterations = 1000;
+  // Newton stops when its decrement (predicted energy decrease) is below relative_tolerance times
+  // the energy scale E1 · Σ_f Â_f t_f (the energy of a unit strain), so the stopping point does not
+  // depend on the plate's size or units.
+  double relative_tolerance = 1e-12;
+};
+
+struct SimulationResult {
+  Eigen::MatrixXd V;             // #V x 3, mm: the equilibrium (or the best state reached)
+  double energy = 0.0;           // mJ (MPa·mm³)
+  double membrane_energy = 0.0;  // the two terms of Eq. 8
+  double bending_energy = 0.0;
+  int iterations = 0;
+  int projected_iterations = 0;
+  bool converged = false;
+  NewtonStatus status = NewtonStatus::kIterationLimit;
+  double seconds = 0.0;  // wall clock, whole call
+  // From Newton: evaluation (energy, gradient, Hessian), factorization, solves, line search.
+  double assembly_seconds = 0.0;
+  double factorization_seconds = 0.0;
+  double solve_seconds = 0.0;
+  double line_search_seconds = 0.0;
+};
+
+// The equilibrium reached from `start` (#V x 3, mm; e.g. the target surface, as the inverse
+// problem needs). Throws UserError on inconsistent sizes or a bad plate (see make_plate_energy);
+// numerical trouble is reported in the result (converged = false, status), not thrown.
+SimulationResult simulate(const PlateProblem& problem, const Eigen::MatrixXd& start,
+                          const SimulationOptions& options = {});
+
+// The forward prediction's start: the flat plate at z = 0 plus a small bump that follows the sign
+// of the rest curvature, z = ½ ε (p − c)ᵀ B (p − c), with B the area-weighted mean of b̄ over the
+// plate, c the mean vertex and ε = 0.01, so that the plate leaves the flat (unstable) state on the
+// side it is programmed to bend to. Flat where B = 0.
+Eigen::MatrixXd flat_start(const PlateProblem& problem);
+
+// Simulation from a given shape and from the flat plate, and whether they disagree (several stable
+// shapes, paper §6): `multistable` when, after a rigid alignment, some vertex differs by more than
+// `tolerance_percent` of the bounding-box diagonal of the first result.
+struct ForwardComparison {
+  SimulationResult from_start;
+  SimulationResult from_flat;
+  double max_difference_mm = 0.0;
+  double max_difference_percent = 0.0;
+  bool multistable = false;
+};
+
+ForwardComparison simulate_from_start_and_flat(const PlateProblem& problem,
+                                               const Eigen::MatrixXd& start,
+                                               const SimulationOptions& options = {},
+                                               double tolerance_percent = 1.0);
+
+}  // namespace flatmorph

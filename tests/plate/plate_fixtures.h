@@ -1,0 +1,125 @@
+// Procedural flat plates for the plate and simulation tests: triangulated rectangles, disks and
+// ellipses in the xy plane (mm), counter-clockwise triangles.
+#pragma once
+
+#include <Eigen/Core>
+#include <cmath>
+#include <vector>
+
+namespace flatmorph::testing {
+
+struct TestPlate {
+  Eigen::MatrixXd V;  // #V x 2, mm
+  Eigen::MatrixXi F;  // #F x 3, counter-clockwise
+};
+
+// A width x height rectangle centred at the origin, cells_x x cells_y cells, each cut along a
+// diagonal that alternates like a chequerboard (no preferred diagonal direction overall).
+inline TestPlate rectangle_plate(double width, double height, int cells_x, int cells_y) {
+  TestPlate p;
+  p.V.resize((cells_x + 1) * (cells_y + 1), 2);
+  auto id = [&](int i, int j) { return j * (cells_x + 1) + i; };
+  for (int j = 0; j <= cells_y; ++j) {
+    for (int i = 0; i <= cells_x; ++i) {
+      p.V.row(id(i, j)) << width * (double(i) / cells_x - 0.5),
+          height * (double(j) / cells_y - 0.5);
+    }
+  }
+  p.F.resize(2 * cells_x * cells_y, 3);
+  int f = 0;
+  for (int j = 0; j < cells_y; ++j) {
+    for (int i = 0; i < cells_x; ++i) {
+      const int a = id(i, j), b = id(i + 1, j), c = id(i + 1, j + 1), d = id(i, j + 1);
+      if ((i + j) % 2 == 0) {
+        p.F.row(f++) << a, b, c;
+        p.F.row(f++) << a, c, d;
+      } else {
+        p.F.row(f++) << a, b, d;
+        p.F.row(f++) << b, c, d;
+      }
+    }
+  }
+  return p;
+}
+
+// A disk of the given radius centred at the origin: vertex 0 at the centre, then `rings` rings,
+// ring i with 6i vertices at radius i/rings * radius starting at angle 0. Neighbouring rings are
+// zipped by angle, so every triangle is counter-clockwise.
+inline TestPlate disk_plate(double radius, int rings) {
+  std::vector<Eigen::Vector2d> points{Eigen::Vector2d::Zero()};
+  std::vector<std::vector<int>> ring_ids{{0}};
+  std::vector<std::vector<double>> ring_angles{{0.0}};
+  for (int i = 1; i <= rings; ++i) {
+    std::vector<int> ids;
+    std::vector<double> angles;
+    for (int j = 0; j < 6 * i; ++j) {
+      const double angle = 2 * M_PI * j / (6 * i);
+      ids.push_back(static_cast<int>(points.size()));
+      angles.push_back(angle);
+      points.emplace_back(radius * i / rings * std::cos(angle),
+                          radius * i / rings * std::sin(angle));
+    }
+    ring_ids.push_back(ids);
+    ring_angles.push_back(angles);
+  }
+  std::vector<Eigen::Vector3i> faces;
+  for (int i = 1; i <= rings; ++i) {
+    const auto& in = ring_ids[i - 1];
+    const auto& out = ring_ids[i];
+    const auto& in_angle = ring_angles[i - 1];
+    const auto& out_angle = ring_angles[i];
+    const int m = static_cast<int>(in.size()), n = static_cast<int>(out.size());
+    if (m == 1) {
+      for (int j = 0; j < n; ++j) faces.emplace_back(in[0], out[j], out[(j + 1) % n]);
+      continue;
+    }
+    int a = 0, b = 0;
+    while (a < m || b < n) {
+      const double next_a = a + 1 < m ? in_angle[a + 1] : 2 * M_PI;
+      const double next_b = b + 1 < n ? out_angle[b + 1] : 2 * M_PI;
+      if (b < n && (next_b <= next_a || a == m)) {
+        faces.emplace_back(in[a % m], out[b], out[(b + 1) % n]);
+        ++b;
+      } else {
+        faces.emplace_back(in[a % m], out[b % n], in[(a + 1) % m]);
+        ++a;
+      }
+    }
+  }
+  TestPlate p;
+  p.V.resize(points.size(), 2);
+  for (size_t v = 0; v < points.size(); ++v) p.V.row(v) = points[v].transpose();
+  p.F.resize(faces.size(), 3);
+  for (size_t f = 0; f < faces.size(); ++f) p.F.row(f) = faces[f].transpose();
+  return p;
+}
+
+// An ellipse with semi-axes (a, b) along (x, y): the disk scaled.
+inline TestPlate ellipse_plate(double semi_axis_x, double semi_axis_y, int rings) {
+  TestPlate p = disk_plate(1.0, rings);
+  p.V.col(0) *= semi_axis_x;
+  p.V.col(1) *= semi_axis_y;
+  return p;
+}
+
+// Embeds a flat plate at z = 0 as a flat (#V x 3) matrix.
+inline Eigen::MatrixXd embed(const Eigen::MatrixXd& plate) {
+  Eigen::MatrixXd X = Eigen::MatrixXd::Zero(plate.rows(), 3);
+  X.leftCols(2) = plate;
+  return X;
+}
+
+// #V x 3 <-> (x0, y0, z0, x1, ...).
+inline Eigen::VectorXd flatten_positions(const Eigen::MatrixXd& X) {
+  Eigen::VectorXd x(X.size());
+  for (Eigen::Index v = 0; v < X.rows(); ++v) x.segment<3>(3 * v) = X.row(v).transpose();
+  return x;
+}
+
+inline Eigen::MatrixXd unflatten_positions(const Eigen::VectorXd& x) {
+  Eigen::MatrixXd X(x.size() / 3, 3);
+  for (Eigen::Index v = 0; v < X.rows(); ++v) X.row(v) = x.segment<3>(3 * v).transpose();
+  return X;
+}
+
+}  // namespace flatmorph::testing
