@@ -30,6 +30,7 @@ int main(int argc, char** argv) {
       cli::make_materials_command(app, global),
       cli::make_check_command(app, global),
       cli::make_flatten_command(app, global),
+      cli::make_simulate_command(app, global),
   };
 
   try {

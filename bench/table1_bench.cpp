@@ -1,0 +1,88 @@
+// Shrink & Morph Table 1, measured on the paper's six models with the paper's settings: face count,
+// plate width, w_D. Reports the distance between the target and the plate simulated from the
+// target with theta2 = 0 ("Dist. to sim.", % of the target's bounding-box diagonal) next to the
+// paper's own figures, and the flattening and simulation times.
+#include <benchmark/benchmark.h>
+
+#include <chrono>
+#include <filesystem>
+
+#include "material/material.h"
+#include "mesh/io.h"
+#include "mesh/subdivide.h"
+#include "methods/shrink_morph/flatten.h"
+#include "plate/laminate.h"
+#include "simulate/distance.h"
+#include "simulate/simulate.h"
+
+namespace flatmorph {
+namespace {
+
+struct PaperModel {
+  const char* name;
+  int faces;
+  double width_mm;
+  double w_D;
+  // Which side is printed on top. The files' normals point to the convex side of hat, saddle and
+  // top; flipping puts the concave side up, where the bilayer term (the top shrinks more) helps.
+  bool flip;
+  double paper_sim_avg, paper_sim_max;  // Table 1, "Dist. to sim."
+};
+
+constexpr PaperModel kModels[] = {
+    {"hemisphere-big", 17152, 150, 0.1, false, 3.36, 10.28},
+    {"saddle", 2048, 100, 0.0, true, 2.20, 6.05},
+    {"beetle", 8448, 200, 0.0, false, 5.41, 16.23},
+    {"face", 3996, 200, 0.1, false, 2.81, 12.56},
+    {"top", 3584, 250, 0.0, true, 5.85, 45.62},
+    {"hat", 11008, 100, 0.1, true, 1.34, 9.31},
+};
+
+void BM_DistToSim(benchmark::State& state) {
+  const PaperModel& model = kModels[state.range(0)];
+  state.SetLabel(model.name);
+  const std::filesystem::path path =
+      std::filesystem::path(FLATMORPH_SHARED_DIR) / "meshes" / (std::string(model.name) + ".obj");
+  if (!std::filesystem::exists(path)) {
+    state.SkipWithError("../shared/meshes is not beside the project");
+    return;
+  }
+  const Material material = load_material("pla-paper");
+  for (auto _ : state) {
+    const Mesh mesh = loop_subdivide_to(read_mesh(path).mesh, model.faces).mesh;
+    FlattenOptions options;
+    options.lambda1 = material.lambda1;
+    options.lambda2 = material.lambda2;
+    options.width_mm = model.width_mm;
+    options.w_D = model.w_D;
+    options.flip = model.flip;
+    const auto t0 = std::chrono::steady_clock::now();
+    const FlatPlate flat = flatten(mesh, options);
+    const auto t1 = std::chrono::steady_clock::now();
+    PlateProblem problem;
+    problem.plate = flat.plate;
+    problem.F = flat.target.F;
+    problem.rest_forms =
+        shrink_morph_rest_forms(flat.theta1, Eigen::VectorXd::Zero(flat.theta1.size()), material,
+                                10 * material.layer_height);
+    problem.stiffness = stiffness_of(material);
+    const SimulationResult sim = simulate(problem, flat.target.V);
+    const ShapeDistance d = shape_distance(sim.V, flat.target.V);
+    state.counters["faces"] = mesh.num_faces();
+    state.counters["t_param_s"] = std::chrono::duration<double>(t1 - t0).count();
+    state.counters["t_sim_s"] = sim.seconds;
+    state.counters["newton_it"] = sim.iterations;
+    state.counters["sim_avg_pct"] = d.mean_percent;
+    state.counters["sim_max_pct"] = d.max_percent;
+    state.counters["paper_sim_avg_pct"] = model.paper_sim_avg;
+    state.counters["paper_sim_max_pct"] = model.paper_sim_max;
+  }
+}
+BENCHMARK(BM_DistToSim)
+    ->DenseRange(0, 5)
+    ->Unit(benchmark::kSecond)
+    ->Iterations(1)
+    ->UseRealTime();
+
+}  // namespace
+}  // namespace flatmorph
