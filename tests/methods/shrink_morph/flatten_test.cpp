@@ -401,6 +401,9 @@ struct PaperCase {
   double w_D;
 };
 
+// Test names and failure messages show the model, not the bytes of the struct.
+void PrintTo(const PaperCase& c, std::ostream* os) { *os << c.name; }
+
 class FlattenPaperMesh : public ::testing::TestWithParam<PaperCase> {};
 
 void expect_printable(const FlatPlate& plate, const std::string& what) {

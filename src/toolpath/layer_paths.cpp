@@ -1,0 +1,218 @@
+#include "toolpath/layer_paths.h"
+
+#include <chrono>
+#include <string>
+
+#include "common/error.h"
+#include "mesh/topology.h"
+#include "toolpath/isolines.h"
+#include "toolpath/line_field.h"
+#include "toolpath/perimeters.h"
+#include "toolpath/refine_plate.h"
+#include "toolpath/simplify.h"
+
+namespace flatmorph {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+void check_options(const Eigen::MatrixXd& plate, const Eigen::MatrixXi& F,
+                   const Eigen::VectorXd& theta1_face, const Eigen::VectorXd& theta2_vertex,
+                   const LayerPathOptions& o) {
+  const auto fail = [](const std::string& message) {
+    throw UserError(ErrorCategory::kOption, "toolpaths: " + message);
+  };
+  if (plate.cols() < 2 || F.rows() == 0) fail("the plate has no faces; give a flattened plate");
+  if (theta1_face.size() != F.rows()) {
+    fail("theta1 has " + std::to_string(theta1_face.size()) + " values for " +
+         std::to_string(F.rows()) + " faces; give one print direction per face");
+  }
+  if (theta2_vertex.size() != 0 && theta2_vertex.size() != plate.rows()) {
+    fail("theta2 has " + std::to_string(theta2_vertex.size()) + " values for " +
+         std::to_string(plate.rows()) + " vertices; give one value per vertex or none");
+  }
+  if (o.num_layers < 1) fail("the number of layers must be at least 1");
+  if (!(o.layer_height > 0)) fail("the layer height must be positive (mm)");
+  if (!(o.spacing > 0)) fail("the path spacing (extrusion width) must be positive (mm)");
+  if (!(o.edge_ratio > 0)) fail("the refinement edge ratio must be positive");
+  if (!(o.min_path_length >= 0)) fail("the minimum path length must not be negative");
+  if (!(o.min_end_gap >= 0)) fail("the minimum gap at path ends must not be negative");
+  if (!(o.simplify_tolerance_mm >= 0)) fail("the simplification tolerance must not be negative");
+  if (o.perimeters < 0) fail("the number of perimeter loops must not be negative");
+}
+
+// Per fine vertex theta1 from the coarse per-vertex line field, interpolated linearly.
+Eigen::VectorXd refined_theta1(const RefinedPlate& refined, const Eigen::VectorXcd& coarse) {
+  const Eigen::VectorXd re = refined.S * coarse.real(), im = refined.S * coarse.imag();
+  Eigen::VectorXcd u(re.size());
+  u.real() = re;
+  u.imag() = im;
+  return line_field_angle(u);
+}
+
+}  // namespace
+
+Eigen::VectorXd layer_theta_vertex(const Eigen::MatrixXd& plate, const Eigen::MatrixXi& F,
+                                   const Eigen::VectorXd& theta1_face,
+                                   const Eigen::VectorXd& theta2_vertex, int k, int num_layers) {
+  const Eigen::VectorXd theta1 = line_field_angle(face_to_vertex_line_field(plate, F, theta1_face));
+  return layer_theta(theta1, theta2_vertex, k, num_layers);
+}
+
+LayerPaths shrink_morph_layer_paths(const Eigen::MatrixXd& plate, const Eigen::MatrixXi& F,
+                                    const Eigen::VectorXd& theta1_face,
+                                    const Eigen::VectorXd& theta2_vertex,
+                                    const LayerPathOptions& options) {
+  check_options(plate, F, theta1_face, theta2_vertex, options);
+  LayerPaths out;
+  const double s = options.spacing;
+
+  Clock::time_point start = Clock::now();
+  const RefinedPlate refined = refine_plate(plate.leftCols<2>(), F, options.edge_ratio * s);
+  const EdgeTopology topology = edge_topology(refined.F);
+  out.refined_faces = static_cast<int>(refined.F.rows());
+  out.refined_mean_edge_mm = mean_edge(refined.V, refined.F);
+  out.refined_max_edge_mm = longest_edge(refined.V, refined.F);
+  out.timings.refinement = seconds_since(start);
+
+  start = Clock::now();
+  const Eigen::VectorXd theta1 =
+      refined_theta1(refined, face_to_vertex_line_field(plate.leftCols<2>(), F, theta1_face));
+  const Eigen::VectorXd theta2 =
+      theta2_vertex.size() ? Eigen::VectorXd(refined.S * theta2_vertex) : Eigen::VectorXd();
+  std::vector<Eigen::VectorXd> thetas;
+  for (int k = 1; k <= options.num_layers; ++k) {
+    thetas.push_back(layer_theta(theta1, theta2, k, options.num_layers));
+  }
+  out.timings.fields = seconds_since(start);
+
+  start = Clock::now();
+  StripeOptions stripe_options = options.stripes;
+  stripe_options.spacing = s;
+  const std::vector<StripePattern> patterns =
+      stripe_patterns(refined.V, refined.F, topology, thetas, stripe_options);
+  out.timings.eigenvector = seconds_since(start);
+
+  // Perimeter loops are the same in every layer.
+  std::vector<Polyline2> perimeters;
+  if (options.perimeters > 0) {
+    start = Clock::now();
+    const Eigen::VectorXd distance = boundary_distance(refined.V, plate.leftCols<2>(), F);
+    perimeters = perimeter_loops(refined.V, refined.F, distance, options.perimeters, s,
+                                 options.min_path_length * s);
+    for (Polyline2& loop : perimeters) {
+      loop.points = simplify_polyline(loop.points, options.simplify_tolerance_mm);
+    }
+    out.timings.extraction += seconds_since(start);
+  }
+
+  SegmentStyle style;
+  style.width = s;
+  style.layer_height = options.layer_height;
+  style.feed_rate = options.feed_rate;
+  style.tool = 0;
+  style.travel = false;
+  Eigen::Vector2d travel_start = plate.leftCols<2>().colwise().minCoeff().transpose();
+  for (int k = 1; k <= options.num_layers; ++k) {
+    const StripePattern& pattern = patterns[k - 1];
+    LayerPathReport report;
+    report.layer = k;
+    report.z = k * options.layer_height;
+    report.power_iterations = pattern.iterations;
+    report.eigen_residual = pattern.residual;
+    for (int f = 0; f < refined.F.rows(); ++f) {
+      if (pattern.doubled_index(f) == 0 && pattern.stripe_index(f) == 0) continue;
+      Eigen::Vector2d c = Eigen::Vector2d::Zero();
+      for (int j = 0; j < 3; ++j) c += refined.V.row(refined.F(f, j)).transpose() / 3;
+      if (pattern.doubled_index(f) != 0) {
+        ++report.field_singular_faces;
+        report.singular_points.push_back(c);
+      } else {
+        ++report.stripe_singular_faces;
+        report.fork_points.push_back(c);
+      }
+    }
+
+    start = Clock::now();
+    std::vector<Polyline2> lines = stripe_isolines(refined.V, refined.F, topology, pattern, 0);
+    if (options.perimeters > 0) {
+      clip_to_inner_region(lines, plate.leftCols<2>(), F,
+                           (options.perimeters - 0.5 + options.min_end_gap) * s);
+    }
+    trim_converging_ends(lines, options.min_end_gap * s);
+    report.dropped_fragments = drop_short_polylines(lines, options.min_path_length * s);
+    for (Polyline2& line : lines) {
+      line.points = simplify_polyline(line.points, options.simplify_tolerance_mm);
+    }
+    out.timings.extraction += seconds_since(start);
+
+    start = Clock::now();
+    ToolpathLayer layer;
+    layer.z = report.z;
+    layer.height = options.layer_height;
+    const auto add_path = [&](const Eigen::MatrixX2d& points, bool reversed, bool closed,
+                              PathType type) {
+      const int m = static_cast<int>(points.rows());
+      PathPolyline path;
+      path.points.resize(m, 3);
+      for (int i = 0; i < m; ++i) {
+        const int from = reversed ? m - 1 - i : i;
+        path.points.row(i) << points(from, 0), points(from, 1), report.z;
+      }
+      path.segments.assign(m - 1, style);
+      path.type = type;
+      path.closed = closed;
+      report.extrusion_mm += polyline_length(points);
+      layer.paths.push_back(std::move(path));
+    };
+    const auto head = [&] {
+      const auto& P = layer.paths.back().points;
+      return Eigen::Vector2d(P.row(P.rows() - 1).head<2>().transpose());
+    };
+    for (size_t loop = 0; loop < perimeters.size(); ++loop) {
+      // A closed loop may start anywhere: at its point nearest the head.
+      const Eigen::MatrixX2d& P = perimeters[loop].points;
+      Eigen::Index nearest = 0;
+      (P.rowwise() - travel_start.transpose()).rowwise().squaredNorm().minCoeff(&nearest);
+      const int m = static_cast<int>(P.rows()) - 1;  // the last point repeats the first
+      Eigen::MatrixX2d rotated(m + 1, 2);
+      for (int i = 0; i <= m; ++i) rotated.row(i) = P.row((nearest + i) % m);
+      if (!layer.paths.empty()) {
+        const double jump = (rotated.row(0).transpose() - travel_start).norm();
+        report.travel_mm += jump;
+        report.travel_greedy_mm += jump;
+      }
+      add_path(rotated, false, true,
+               loop == 0 ? PathType::kExternalPerimeter : PathType::kPerimeter);
+      travel_start = head();
+    }
+    const int n = static_cast<int>(lines.size());
+    Eigen::MatrixX2d first(n, 2), last(n, 2);
+    for (int p = 0; p < n; ++p) {
+      first.row(p) = lines[p].points.row(0);
+      last.row(p) = lines[p].points.row(lines[p].points.rows() - 1);
+    }
+    const PathOrder order = order_paths(first, last, travel_start, options.order);
+    const PathOrder greedy = greedy_order(first, last, travel_start);
+    // After perimeter loops, the jump from the last loop to the first path is travel too.
+    const bool after_loops = !layer.paths.empty();
+    report.travel_mm += order.travel + (after_loops ? order.approach : 0);
+    report.travel_greedy_mm += greedy.travel + (after_loops ? greedy.approach : 0);
+    for (int pos = 0; pos < n; ++pos) {
+      const Polyline2& line = lines[order.order[pos]];
+      add_path(line.points, order.reversed[pos], line.closed, PathType::kSolidInfill);
+    }
+    if (!layer.paths.empty()) travel_start = head();
+    report.paths = static_cast<int>(layer.paths.size());
+    out.timings.ordering += seconds_since(start);
+    out.toolpath.layers.push_back(std::move(layer));
+    out.layers.push_back(std::move(report));
+  }
+  return out;
+}
+
+}  // namespace flatmorph

@@ -1,0 +1,353 @@
+#include "toolpath/stripe_patterns.h"
+
+#include <Eigen/CholmodSupport>
+#include <Eigen/SparseCore>
+#include <cmath>
+#include <complex>
+#include <numbers>
+#include <stdexcept>
+
+#include "mesh/operators.h"
+#include "toolpath/line_field.h"
+
+namespace flatmorph {
+namespace {
+
+constexpr double kTwoPi = 2 * std::numbers::pi;
+// Phases closer than this to an isoline level are moved off it (radians).
+constexpr double kPhaseNudge = 1e-9;
+
+// x wrapped to [-pi, pi).
+double wrap_angle(double x) { return x - kTwoPi * std::floor((x + std::numbers::pi) / kTwoPi); }
+
+// Number of levels 2 pi k strictly between a and b.
+int count_levels(double a, double b) {
+  const double lo = std::min(a, b), hi = std::max(a, b);
+  const double n = std::floor(hi / kTwoPi) - std::ceil(lo / kTwoPi) + 1;
+  return n > 0 ? static_cast<int>(n) : 0;
+}
+
+// X_v, the unit vector at theta_v + pi/2: the square root of z_v = -e^{2 i theta_v} taken as
+// e^{i arg(z_v) / 2}, arg in (-pi, pi] (the sign choice only decides which edges cross sheets).
+Eigen::MatrixXd phase_directions(const Eigen::VectorXd& theta) {
+  Eigen::MatrixXd X(theta.size(), 2);
+  for (int v = 0; v < theta.size(); ++v) {
+    const double half_arg = 0.5 * std::arg(-std::polar(1.0, 2 * theta(v)));
+    X.row(v) << std::cos(half_arg), std::sin(half_arg);
+  }
+  return X;
+}
+
+// Half the cotangent of the angle opposite edge k of each face (edge k runs from corner k to k+1).
+Eigen::MatrixXd half_cotangents(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F) {
+  Eigen::MatrixXd half_cot(F.rows(), 3);
+  for (int f = 0; f < F.rows(); ++f) {
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Vector2d o = V.row(F(f, (k + 2) % 3)).head<2>().transpose();
+      const Eigen::Vector2d a = V.row(F(f, k)).head<2>().transpose() - o;
+      const Eigen::Vector2d b = V.row(F(f, (k + 1) % 3)).head<2>().transpose() - o;
+      const double cross = std::abs(a.x() * b.y() - a.y() * b.x());
+      half_cot(f, k) = cross > 0 ? 0.5 * a.dot(b) / cross : 0;
+    }
+  }
+  return half_cot;
+}
+
+// Everything about one field that the energy and the phases need.
+struct FieldData {
+  Eigen::MatrixXd X;       // #V x 2 phase directions
+  Eigen::VectorXi sign;    // per edge
+  Eigen::VectorXd omega;   // per edge: target phase increment i -> j in the sign of X_i (rad)
+  Eigen::VectorXd weight;  // per edge: cotan weight over the non-singular faces, clamped to >= 0
+  Eigen::VectorXi doubled_index;
+};
+
+FieldData field_data(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
+                     const EdgeTopology& topology, const Eigen::MatrixXd& half_cot,
+                     const Eigen::VectorXd& theta, double nu) {
+  FieldData d;
+  d.X = phase_directions(theta);
+  d.doubled_index = line_field_doubled_index(F, theta);
+  const int ne = topology.num_edges();
+  d.sign.resize(ne);
+  d.omega.resize(ne);
+  d.weight.setZero(ne);
+  for (int e = 0; e < ne; ++e) {
+    const int i = topology.edges(e, 0), j = topology.edges(e, 1);
+    const Eigen::Vector2d Xi = d.X.row(i), Xj = d.X.row(j);
+    d.sign(e) = Xi.dot(Xj) >= 0 ? 1 : -1;
+    const Eigen::Vector2d edge = (V.row(j) - V.row(i)).head<2>();
+    // Knöppel et al. 2015 §5: the phase 1-form integrated along the edge, nu <X, e> with X the
+    // mean of the two (sign-aligned) directions.
+    d.omega(e) = 0.5 * nu * (Xi + d.sign(e) * Xj).dot(edge);
+  }
+  for (int f = 0; f < F.rows(); ++f) {
+    if (d.doubled_index(f) != 0) continue;  // no alignment is asked where the field is singular
+    for (int k = 0; k < 3; ++k) d.weight(topology.face_edges(f, k)) += half_cot(f, k);
+  }
+  d.weight = d.weight.cwiseMax(0.0);
+  return d;
+}
+
+// The connection Laplacian E (Knöppel et al. 2015 Eq. 9 in real 2x2 blocks, vertex v at rows 2v,
+// 2v+1): per edge w |psi_j - e^{i omega} psi_i|^2, with conj(psi_i) for edges that cross sheets.
+// Triplets are always emitted in the same order so every field gives the same sparsity pattern.
+Eigen::SparseMatrix<double> connection_laplacian(const EdgeTopology& topology, const FieldData& d,
+                                                 int nv) {
+  std::vector<Eigen::Triplet<double>> t;
+  t.reserve(16 * topology.num_edges());
+  for (int e = 0; e < topology.num_edges(); ++e) {
+    const int i = topology.edges(e, 0), j = topology.edges(e, 1);
+    const double w = d.weight(e), c = std::cos(d.omega(e)), s = std::sin(d.omega(e));
+    // Block (j, i) = -w R(omega): psi_j = e^{i omega} psi_i. Across sheets the phase read in X_j
+    // is the negative of the one read in X_i, so conj(psi_j) = e^{i omega} psi_i and the block is
+    // -w diag(1, -1) R(omega) (notes §5.3: R(-omega) diag(1, -1), the same matrix).
+    Eigen::Matrix2d block;
+    if (d.sign(e) > 0) {
+      block << c, -s, s, c;
+    } else {
+      block << c, -s, -s, -c;
+    }
+    block *= -w;
+    for (int r = 0; r < 2; ++r) {
+      t.emplace_back(2 * i + r, 2 * i + r, w);
+      t.emplace_back(2 * j + r, 2 * j + r, w);
+      for (int q = 0; q < 2; ++q) {
+        t.emplace_back(2 * j + r, 2 * i + q, block(r, q));
+        t.emplace_back(2 * i + q, 2 * j + r, block(r, q));
+      }
+    }
+  }
+  Eigen::SparseMatrix<double> E(2 * nv, 2 * nv);
+  E.setFromTriplets(t.begin(), t.end());
+  return E;
+}
+
+// The phase data of the converged psi (see StripePattern).
+void stripe_phases(const Eigen::MatrixXi& F, const EdgeTopology& topology, const FieldData& d,
+                   StripePattern& p) {
+  const int nv = static_cast<int>(p.psi.size());
+  p.vertex_phase.resize(nv);
+  for (int v = 0; v < nv; ++v) {
+    double phase = std::arg(p.psi(v));
+    if (std::abs(phase) < kPhaseNudge) phase = phase < 0 ? -kPhaseNudge : kPhaseNudge;
+    p.vertex_phase(v) = phase;
+  }
+  const int ne = topology.num_edges();
+  p.edge_sign = d.sign;
+  p.edge_phase.resize(ne);
+  for (int e = 0; e < ne; ++e) {
+    const int i = topology.edges(e, 0), j = topology.edges(e, 1);
+    // The phase jump that the integer part of the winding cannot see is taken from omega; the
+    // rest from psi (geometry-central's texture-coordinate rule, notes §5.3).
+    const double omega = d.omega(e);
+    p.edge_phase(e) = omega + wrap_angle(d.sign(e) * p.vertex_phase(j) - p.vertex_phase(i) - omega);
+  }
+  const int nf = static_cast<int>(F.rows());
+  p.doubled_index = d.doubled_index;
+  p.stripe_index.setZero(nf);
+  p.corner_phase.setZero(nf, 3);
+  p.usable.assign(nf, false);
+  for (int f = 0; f < nf; ++f) {
+    // Signs of the three directions relative to the first corner's (identity transport).
+    int c[3];
+    const Eigen::Vector2d Xa = d.X.row(F(f, 0));
+    for (int k = 0; k < 3; ++k) c[k] = Xa.dot(d.X.row(F(f, k)).transpose()) >= 0 ? 1 : -1;
+    bool consistent = true;
+    double increment[3];  // phase change along edge k of the face, in the face's sign
+    for (int k = 0; k < 3; ++k) {
+      const int e = topology.face_edges(f, k);
+      const int u = F(f, k);
+      const bool forward = topology.edges(e, 0) == u;
+      const int c_first = forward ? c[k] : c[(k + 1) % 3];
+      const int c_second = forward ? c[(k + 1) % 3] : c[k];
+      if (c_second != c_first * d.sign(e)) consistent = false;
+      increment[k] = c_first * (forward ? 1 : -1) * p.edge_phase(e);
+    }
+    double alpha[3];
+    alpha[0] = c[0] * p.vertex_phase(F(f, 0));
+    alpha[1] = alpha[0] + increment[0];
+    alpha[2] = alpha[1] + increment[1];
+    const double closing = alpha[2] + increment[2] - alpha[0];
+    p.stripe_index(f) = static_cast<int>(std::lround(closing / kTwoPi));
+    for (int k = 0; k < 3; ++k) p.corner_phase(f, k) = alpha[k];
+    if (!consistent || p.doubled_index(f) != 0 || p.stripe_index(f) != 0) continue;
+    // The face must see on each edge as many isoline crossings as the edge itself holds.
+    bool counts_agree = true;
+    for (int k = 0; k < 3; ++k) {
+      const int e = topology.face_edges(f, k);
+      const int i = topology.edges(e, 0);
+      const double a = p.vertex_phase(i), b = a + p.edge_phase(e);
+      if (count_levels(alpha[k], alpha[(k + 1) % 3]) != count_levels(a, b)) counts_agree = false;
+    }
+    p.usable[f] = counts_agree;
+  }
+}
+
+// A breadth-first spanning tree of the vertex graph along which 1-forms are integrated into
+// phases: vertices in visiting order, each with the edge it was reached by (-1 for the root). The
+// root is the vertex nearest the centroid that touches no field-singular face, and the search
+// first uses only edges that touch none: there X has no direction, and an edge at a singular
+// vertex would give its whole subtree an arbitrary phase (around the centre of concentric circles
+// that turns the circles into a spiral).
+struct SpanningTree {
+  std::vector<int> order;
+  std::vector<int> parent_edge;
+};
+
+SpanningTree spanning_tree(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
+                           const EdgeTopology& topology, const Eigen::VectorXi& doubled_index) {
+  const int nv = static_cast<int>(V.rows());
+  std::vector<bool> near_singular(nv, false);
+  for (int f = 0; f < F.rows(); ++f) {
+    if (doubled_index(f) == 0) continue;
+    for (int k = 0; k < 3; ++k) near_singular[F(f, k)] = true;
+  }
+  std::vector<std::vector<int>> incident(nv);
+  for (int e = 0; e < topology.num_edges(); ++e) {
+    incident[topology.edges(e, 0)].push_back(e);
+    incident[topology.edges(e, 1)].push_back(e);
+  }
+  const Eigen::RowVector2d centroid = V.leftCols<2>().colwise().mean();
+  int root = -1;
+  double best = 0;
+  for (int v = 0; v < nv; ++v) {
+    const double d = (V.row(v).head<2>() - centroid).squaredNorm();
+    if (!near_singular[v] && (root < 0 || d < best)) {
+      root = v;
+      best = d;
+    }
+  }
+  if (root < 0) root = 0;
+  SpanningTree tree;
+  tree.parent_edge.assign(nv, -1);
+  std::vector<bool> seen(nv, false);
+  seen[root] = true;
+  tree.order.push_back(root);
+  for (const bool any_edge : {false, true}) {
+    for (size_t head = 0; head < tree.order.size(); ++head) {
+      const int v = tree.order[head];
+      for (int e : incident[v]) {
+        const int w = topology.edges(e, 0) == v ? topology.edges(e, 1) : topology.edges(e, 0);
+        if (seen[w] || (!any_edge && (near_singular[v] || near_singular[w]))) continue;
+        seen[w] = true;
+        tree.parent_edge[w] = e;
+        tree.order.push_back(w);
+      }
+    }
+  }
+  return tree;
+}
+
+// Phases Phi with Phi_j = s_e (form_e + Phi_i) along every tree edge e = (i, j) (psi_j =
+// e^{i omega} psi_i, or conj(psi_j) = e^{i omega} psi_i across sheets), Phi = 0 at the root.
+Eigen::VectorXd integrate_one_form(const SpanningTree& tree, const EdgeTopology& topology,
+                                   const Eigen::VectorXi& sign, const Eigen::VectorXd& form) {
+  Eigen::VectorXd phi = Eigen::VectorXd::Zero(static_cast<int>(tree.parent_edge.size()));
+  for (int v : tree.order) {
+    const int e = tree.parent_edge[v];
+    if (e < 0) continue;
+    const int i = topology.edges(e, 0), j = topology.edges(e, 1);
+    phi(v) = v == j ? sign(e) * (form(e) + phi(i)) : sign(e) * phi(j) - form(e);
+  }
+  return phi;
+}
+
+}  // namespace
+
+std::vector<StripePattern> stripe_patterns(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
+                                           const EdgeTopology& topology,
+                                           const std::vector<Eigen::VectorXd>& theta_vertex,
+                                           const StripeOptions& options) {
+  const int nv = static_cast<int>(V.rows());
+  const double nu = kTwoPi / options.spacing;
+  const Eigen::MatrixXd half_cot = half_cotangents(V, F);
+  const Eigen::VectorXd vertex_mass = lumped_mass(V.leftCols<2>(), F);
+  Eigen::VectorXd mass(2 * nv);
+  for (int v = 0; v < nv; ++v) mass.segment<2>(2 * v).setConstant(vertex_mass(v));
+  Eigen::SparseMatrix<double> shift(2 * nv, 2 * nv);
+  {
+    std::vector<Eigen::Triplet<double>> t;
+    for (int r = 0; r < 2 * nv; ++r) t.emplace_back(r, r, 1e-6 * nu * nu * mass(r));
+    shift.setFromTriplets(t.begin(), t.end());
+  }
+
+  std::vector<StripePattern> patterns;
+  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> solver;
+  Eigen::VectorXd x;
+  Eigen::MatrixXd previous_X;
+  for (size_t layer = 0; layer < theta_vertex.size(); ++layer) {
+    if (layer > 0 && theta_vertex[layer] == theta_vertex[layer - 1]) {
+      // The same field (theta2 = 0) has the same stripes: printed lines stack exactly.
+      patterns.push_back(patterns.back());
+      continue;
+    }
+    const FieldData d = field_data(V, F, topology, half_cot, theta_vertex[layer], nu);
+    const SpanningTree tree = spanning_tree(V, F, topology, d.doubled_index);
+    if (layer == 0) {
+      // Start from the target 1-form integrated along the tree: stripes already aligned with the
+      // field everywhere, mismatched only across the tree's cuts, which the iteration heals.
+      const Eigen::VectorXd phi = integrate_one_form(tree, topology, d.sign, d.omega);
+      x.resize(2 * nv);
+      for (int v = 0; v < nv; ++v) x.segment<2>(2 * v) << std::cos(phi(v)), std::sin(phi(v));
+    } else {
+      // Warm start: the previous pattern, each value in this layer's sign of X (a vertex whose
+      // direction changed sign carries the conjugate), advanced by the integrated change of the
+      // 1-form, so that its stripes turn with the field while keeping their offsets and forks.
+      Eigen::MatrixXd previous_aligned = previous_X;
+      for (int v = 0; v < nv; ++v) {
+        if (d.X.row(v).dot(previous_X.row(v)) < 0) {
+          x(2 * v + 1) = -x(2 * v + 1);
+          previous_aligned.row(v) *= -1;
+        }
+      }
+      Eigen::VectorXd change(topology.num_edges());
+      for (int e = 0; e < topology.num_edges(); ++e) {
+        const int i = topology.edges(e, 0), j = topology.edges(e, 1);
+        const Eigen::Vector2d edge = (V.row(j) - V.row(i)).head<2>();
+        const Eigen::Vector2d turn = (d.X.row(i) - previous_aligned.row(i)) +
+                                     d.sign(e) * (d.X.row(j) - previous_aligned.row(j));
+        change(e) = 0.5 * nu * turn.dot(edge);
+      }
+      const Eigen::VectorXd phi = integrate_one_form(tree, topology, d.sign, change);
+      for (int v = 0; v < nv; ++v) {
+        const std::complex<double> value =
+            std::complex<double>(x(2 * v), x(2 * v + 1)) * std::polar(1.0, phi(v));
+        x.segment<2>(2 * v) << value.real(), value.imag();
+      }
+    }
+    const Eigen::SparseMatrix<double> E = connection_laplacian(topology, d, nv);
+    const Eigen::SparseMatrix<double> A = E + shift;
+    if (patterns.empty()) {
+      // Minimum degree alone: on these planar meshes it orders several times faster than trying
+      // nested dissection as well, for a similar fill.
+      solver.cholmod().nmethods = 1;
+      solver.cholmod().method[0].ordering = CHOLMOD_AMD;
+      solver.analyzePattern(A);
+    }
+    solver.factorize(A);
+    if (solver.info() != Eigen::Success) {
+      throw std::runtime_error("stripe_patterns: factorization of the connection Laplacian failed");
+    }
+    StripePattern p;
+    x /= std::sqrt(x.dot(mass.cwiseProduct(x)));
+    for (p.iterations = 1; p.iterations <= options.max_iterations; ++p.iterations) {
+      const Eigen::VectorXd y = solver.solve(mass.cwiseProduct(x));
+      x = y / std::sqrt(y.dot(mass.cwiseProduct(y)));
+      const Eigen::VectorXd Ex = E * x;
+      p.eigenvalue = x.dot(Ex);
+      const Eigen::VectorXd r = Ex - p.eigenvalue * mass.cwiseProduct(x);
+      p.residual = std::sqrt(r.dot(r.cwiseQuotient(mass))) / (nu * nu);
+      if (p.residual < options.tolerance) break;
+    }
+    p.iterations = std::min(p.iterations, options.max_iterations);
+    p.psi.resize(nv);
+    for (int v = 0; v < nv; ++v) p.psi(v) = {x(2 * v), x(2 * v + 1)};
+    stripe_phases(F, topology, d, p);
+    patterns.push_back(std::move(p));
+    previous_X = d.X;
+  }
+  return patterns;
+}
+
+}  // namespace flatmorph
