@@ -10,6 +10,7 @@
 #include "mesh/io.h"
 #include "plate/laminate.h"
 #include "plate/layer_stack.h"
+#include "plate/plate_file.h"
 #include "simulate/distance.h"
 #include "simulate/simulate.h"
 
@@ -24,49 +25,6 @@ struct SimulateOptions {
   std::string target_path;
   std::string output;
 };
-
-// The plate as flat.ply stores it: 2D positions (z = 0), per-face theta1, optional per-vertex theta2.
-struct PlateFile {
-  Eigen::MatrixXd plate;
-  Eigen::MatrixXi F;
-  Eigen::VectorXd theta1;
-  Eigen::VectorXd theta2;
-};
-
-PlateFile read_plate(const std::string& path) {
-  MeshFile file = read_mesh(path);
-  PlateFile p;
-  p.F = file.mesh.F;
-  p.plate = file.mesh.V.leftCols(2);
-  const double extent = (file.mesh.V.colwise().maxCoeff() - file.mesh.V.colwise().minCoeff())
-                            .head<2>()
-                            .maxCoeff();
-  if (file.mesh.num_vertices() == 0 || file.mesh.num_faces() == 0) {
-    throw UserError(ErrorCategory::kFormat, fmt::format("{}: the plate has no faces", path));
-  }
-  if (file.mesh.V.col(2).cwiseAbs().maxCoeff() > 1e-9 * std::max(extent, 1.0)) {
-    throw UserError(ErrorCategory::kGeometry,
-                    fmt::format("{}: the plate is not flat (z != 0); pass the flat.ply written by "
-                                "'flatmorph flatten' or 'flatmorph design'",
-                                path));
-  }
-  const Eigen::VectorXd* theta1 = file.properties.find_face("theta1");
-  if (theta1 == nullptr) {
-    throw UserError(ErrorCategory::kFormat,
-                    fmt::format("{}: no per-face property 'theta1' (the print direction in "
-                                "radians); pass the flat.ply written by 'flatmorph flatten' or "
-                                "'flatmorph design'",
-                                path));
-  }
-  p.theta1 = *theta1;
-  const Eigen::VectorXd* theta2 = file.properties.find_vertex("theta2");
-  p.theta2 = theta2 ? *theta2 : Eigen::VectorXd::Zero(p.plate.rows());
-  if (!p.theta1.allFinite() || !p.theta2.allFinite()) {
-    throw UserError(ErrorCategory::kFormat,
-                    fmt::format("{}: theta1 or theta2 holds NaN or infinite values", path));
-  }
-  return p;
-}
 
 Eigen::MatrixXd read_shape(const std::string& path, const PlateFile& plate, const char* role) {
   MeshFile file = read_mesh(path);
@@ -98,7 +56,7 @@ int run_simulate(const SimulateOptions& o, const GlobalOptions& global) {
                                 o.output));
   }
   const Material material = load_material(o.material);
-  const PlateFile plate = read_plate(o.plate_path);
+  const PlateFile plate = read_plate_file(o.plate_path);
 
   PlateProblem problem;
   problem.plate = plate.plate;

@@ -26,5 +26,6 @@ Command make_materials_command(CLI::App& app, const GlobalOptions& global);
 Command make_check_command(CLI::App& app, const GlobalOptions& global);
 Command make_flatten_command(CLI::App& app, const GlobalOptions& global);
 Command make_simulate_command(CLI::App& app, const GlobalOptions& global);
+Command make_toolpaths_command(CLI::App& app, const GlobalOptions& global);
 
 }  // namespace flatmorph::cli

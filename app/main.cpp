@@ -31,6 +31,7 @@ int main(int argc, char** argv) {
       cli::make_check_command(app, global),
       cli::make_flatten_command(app, global),
       cli::make_simulate_command(app, global),
+      cli::make_toolpaths_command(app, global),
   };
 
   try {
