@@ -12,8 +12,7 @@
 #include "common/error.h"
 #include "material/material.h"
 #include "mesh/io.h"
-#include "mesh/subdivide.h"
-#include "mesh/validate.h"
+#include "mesh/prepare.h"
 #include "mesh_input.h"
 #include "methods/shrink_morph/flatten.h"
 
@@ -62,11 +61,10 @@ int run_flatten(const FlattenCliOptions& options, const GlobalOptions& global) {
 
   const auto start = std::chrono::steady_clock::now();
   const std::string source = describe(options.input);
-  Mesh mesh = load_mesh_input(options.input).mesh;
-  repair_mesh(mesh);
-  require_disk(mesh, source);
-  const int input_faces = mesh.num_faces();
-  mesh = loop_subdivide_to(mesh, options.faces).mesh;
+  const PreparedTarget prepared =
+      prepare_target(load_mesh_input(options.input).mesh, source, options.faces);
+  const Mesh& mesh = prepared.mesh;
+  const int input_faces = prepared.input_faces;
   const double prepare_seconds = seconds_since(start);
 
   FlattenOptions flatten_options;

@@ -41,7 +41,7 @@ int run_info(const InfoOptions& options) {
                  "     no\n",
                  source, e.vertices_read, e.faces_read);
     }
-    fmt::print(stderr, "flatmorph: error: {}\n", e.what());
+    fmt::print(stderr, "flatmorph: error [{}]: {}\n", to_string(e.category()), e.what());
     return 2;
   }
 
@@ -140,7 +140,8 @@ int run_info(const InfoOptions& options) {
     }
   }
   if (!diagnosis.is_disk()) {
-    fmt::print(stderr, "flatmorph: error: {}\n", problem_line(source, diagnosis.problems.front()));
+    fmt::print(stderr, "flatmorph: error [{}]: {}\n", to_string(diagnosis.problems.front().category),
+               problem_line(source, diagnosis.problems.front()));
     return 2;
   }
   return 0;

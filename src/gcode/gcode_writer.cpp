@@ -178,7 +178,8 @@ class Emitter {
     out_ += '\n';
   }
 
-  void begin_layer(const ToolpathLayer& layer, int index) {
+  // `first_of_section`: the layer lies on the bed (the first layer of the print or of a section).
+  void begin_layer(const ToolpathLayer& layer, bool first_of_section) {
     out_ += ";LAYER_CHANGE\n;Z:";
     out_ += fixed(layer.z, 3);
     out_ += "\n;HEIGHT:";
@@ -193,7 +194,7 @@ class Emitter {
       e_units_ = 0;
       line("G92 E0");
     }
-    layer_index_ = index;
+    first_of_section_ = first_of_section;
     first_travel_of_layer_ = true;
   }
 
@@ -240,6 +241,15 @@ class Emitter {
     retracted_ = true;
   }
 
+  // Retracts and lifts the nozzle to `z` (mm) where it stands, if it is lower: before heating for
+  // a new section, above everything printed so far.
+  void lift_to(double z) {
+    retract();
+    if (!known_) return;
+    const int target = lift_units(z);
+    if (target > pos_.z()) move_z(target);
+  }
+
   void unretract() {
     if (!retracted_) return;
     if (printer_.firmware_retraction) {
@@ -259,7 +269,7 @@ class Emitter {
 
   double extrusion_speed(const SegmentStyle& s) const {
     if (s.feed_rate > 0) return s.feed_rate;
-    if (layer_index_ == 0) {
+    if (first_of_section_) {
       return material_.first_layer_speed > 0 ? material_.first_layer_speed
                                              : printer_.first_layer_speed;
     }
@@ -404,7 +414,7 @@ class Emitter {
   long feed_ = -1;         // mm/min
   bool retracted_ = false;
   int tool_ = 0;
-  int layer_index_ = 0;
+  bool first_of_section_ = true;
   bool first_travel_of_layer_ = true;
   std::optional<PathType> type_;
   long long width_ = -1;  // the ;WIDTH: and ;HEIGHT: in effect, mm / 1000
@@ -476,6 +486,31 @@ Placement place(const Toolpath& toolpath, const std::vector<PathPolyline>& skirt
                   fmt::format("the plate is {:.1f} x {:.1f} mm{} and does not fit {}: scale the "
                               "design down or choose a larger printer ('flatmorph printers')",
                               plate_size.x(), plate_size.y(), with_skirt, bed));
+}
+
+// Sections must start at layer 0, in increasing order, within the toolpath, at temperatures the
+// material allows.
+void validate_sections(const std::vector<PrintSection>& sections, const Toolpath& toolpath,
+                       const Material& material) {
+  for (size_t s = 0; s < sections.size(); ++s) {
+    const size_t first = sections[s].first_layer;
+    if ((s == 0 && first != 0) || (s > 0 && first <= sections[s - 1].first_layer) ||
+        first >= toolpath.layers.size()) {
+      throw std::invalid_argument(fmt::format(
+          "make_gcode: section {} starts at layer index {} (previous {}, {} layers)", s + 1, first,
+          s > 0 ? static_cast<long>(sections[s - 1].first_layer) : -1L, toolpath.layers.size()));
+    }
+    const double t = sections[s].nozzle_temperature;
+    if (t != 0 && (t < material.min_nozzle_temperature || t > material.max_nozzle_temperature)) {
+      throw UserError(
+          ErrorCategory::kOption,
+          fmt::format("nozzle temperature {:g} C{} lies outside the safe range [{:g}, "
+                      "{:g}] C of material {}: choose temperatures inside it",
+                      t, sections[s].label.empty() ? "" : " (" + sections[s].label + ")",
+                      material.min_nozzle_temperature, material.max_nozzle_temperature,
+                      material.name));
+    }
+  }
 }
 
 std::string header(const PrinterProfile& printer, const Material& material,
@@ -563,6 +598,16 @@ std::string header(const PrinterProfile& printer, const Material& material,
   }
   add(fmt::format("layers = {}, top at z = {:.3f} mm; heights {}", toolpath.layers.size(),
                   toolpath.layers.back().z, heights));
+  for (size_t s = 0; s < options.sections.size(); ++s) {
+    const PrintSection& section = options.sections[s];
+    const size_t last = s + 1 < options.sections.size() ? options.sections[s + 1].first_layer
+                                                        : toolpath.layers.size();
+    const double t =
+        section.nozzle_temperature > 0 ? section.nozzle_temperature : material.nozzle_temperature;
+    add(fmt::format("section {} = layers {}-{} printed from the bed up at {:g} C{}{}", s + 1,
+                    section.first_layer + 1, last, t, section.label.empty() ? "" : ": ",
+                    section.label));
+  }
   h += ";\n";
   return h;
 }
@@ -634,6 +679,8 @@ GcodeResult make_gcode(const Toolpath& toolpath, const PrinterProfile& printer,
                                 options.skirt_loops, options.skirt_distance));
   }
 
+  validate_sections(options.sections, toolpath, material);
+
   // The skirt is as wide and as high as the first extruded segment of the first layer.
   double skirt_width = printer.nozzle_diameter;
   double skirt_height = toolpath.layers.front().height;
@@ -654,7 +701,9 @@ GcodeResult make_gcode(const Toolpath& toolpath, const PrinterProfile& printer,
   for (const ToolpathLayer& layer : toolpath.layers) {
     for (const PathPolyline& path : layer.paths) top = std::max(top, path.points.col(2).maxCoeff());
   }
-  const double highest = top + std::max(printer.z_hop, kFirstTravelLift);
+  // A section change lifts above the print, and the travel that follows lifts by z_hop again.
+  const double highest = top + std::max(printer.z_hop, kFirstTravelLift) +
+                         (options.sections.size() > 1 ? printer.z_hop : 0.0);
   if (highest > printer.max_height) {
     throw UserError(ErrorCategory::kInfeasible,
                     fmt::format("the print reaches z = {:.2f} mm (with travel lifts) but {} "
@@ -692,16 +741,45 @@ GcodeResult make_gcode(const Toolpath& toolpath, const PrinterProfile& printer,
   emit.out().clear();
 
   std::vector<std::string> layer_texts;
+  size_t section = 0;              // index into options.sections (when there are any)
+  size_t section_first_layer = 0;  // index of the current section's first layer
+  double nozzle_target = material.nozzle_temperature;
+  double printed_top = 0;  // highest z printed so far (mm)
   for (size_t k = 0; k < toolpath.layers.size(); ++k) {
     const ToolpathLayer& layer = toolpath.layers[k];
-    emit.begin_layer(layer, static_cast<int>(k));
-    if (k == 1 && material.fan_speed != material.first_layer_fan_speed) {
+    const PrintSection* starts = nullptr;
+    for (size_t s = section; s < options.sections.size(); ++s) {
+      if (options.sections[s].first_layer == k) {
+        starts = &options.sections[s];
+        section = s;
+        section_first_layer = k;
+      }
+    }
+    emit.begin_layer(layer, k == section_first_layer);
+    if (starts != nullptr) {
+      emit.line(fmt::format("; ---- section {} of {}{}{}", section + 1, options.sections.size(),
+                            starts->label.empty() ? "" : ": ", starts->label));
+      if (k > 0) emit.lift_to(printed_top + std::max(printer.z_hop, kFirstTravelLift));
+      const double target =
+          starts->nozzle_temperature > 0 ? starts->nozzle_temperature : material.nozzle_temperature;
+      if (target != nozzle_target) {
+        emit.line(fmt::format("M109 S{:.0f} ; nozzle temperature of this section, wait", target));
+        nozzle_target = target;
+      }
+      if (k > 0 && material.fan_speed != material.first_layer_fan_speed) {
+        emit.line(fan_command(printer.flavor, material.first_layer_fan_speed));
+      }
+    }
+    if (k == section_first_layer + 1 && material.fan_speed != material.first_layer_fan_speed) {
       emit.line(fan_command(printer.flavor, material.fan_speed));
     }
     if (k == 0) {
       for (const PathPolyline& loop : skirt) emit.path(loop);
     }
-    for (const PathPolyline& path : layer.paths) emit.path(path);
+    for (const PathPolyline& path : layer.paths) {
+      emit.path(path);
+      printed_top = std::max(printed_top, path.points.col(2).maxCoeff());
+    }
     if (k + 1 == toolpath.layers.size()) {
       emit.retract();
       emit.line("M107 ; fan off");

@@ -19,6 +19,21 @@
 
 namespace flatmorph {
 
+// Part of a print made of objects printed one after the other, each from the bed up: the layers of
+// the toolpath from `first_layer` on (up to the next section) are one object, or one set of
+// objects printed together (the calibration samples: one section per nozzle temperature and layer
+// height). The toolpath's layers then run bottom to top within each section and start again near
+// the bed at the next one. At the start of a section the writer lifts the nozzle above everything
+// printed so far, sets the section's nozzle temperature and waits for it (M109), and treats the
+// section's first layer as a first layer (speed and fan). The objects of different sections must
+// not overlap, and each section's own travels must stay clear of the others (e.g. sections in
+// disjoint convex regions): the writer only lifts at section changes.
+struct PrintSection {
+  size_t first_layer = 0;         // index into Toolpath::layers; the first section starts at 0
+  double nozzle_temperature = 0;  // degrees C; 0: the material's
+  std::string label;              // written as a comment where the section begins
+};
+
 struct GcodeOptions {
   // Where the centre of the plate's bounding box goes on the bed (bed coordinates, mm, as the
   // firmware sees them: `--at X,Y`). Unset: the centre of the bed.
@@ -26,6 +41,8 @@ struct GcodeOptions {
   // Skirt loops printed around the plate on the first layer (0: none), and their gap to the plate.
   int skirt_loops = 0;
   double skirt_distance = 3.0;  // mm
+  // Empty: the whole toolpath is one object printed bottom to top (PrintSection above).
+  std::vector<PrintSection> sections;
 };
 
 struct GcodeResult {

@@ -1,7 +1,6 @@
 #include "gcode/preview.h"
 
 #include <fmt/core.h>
-#include <zlib.h>
 
 #include <algorithm>
 #include <array>
@@ -11,26 +10,10 @@
 
 #include "common/atomic_file.h"
 #include "common/error.h"
+#include "raster/raster.h"
 
 namespace flatmorph {
 namespace {
-
-using Rgb = std::array<unsigned char, 3>;
-
-// Print order as colour: a viridis-like ramp (dark blue, teal, green, yellow), readable in grey.
-Rgb order_color(size_t index, size_t count) {
-  static const double kStops[5][3] = {
-      {68, 1, 84}, {59, 82, 139}, {33, 145, 140}, {94, 201, 98}, {253, 231, 37}};
-  const double t = count > 1 ? static_cast<double>(index) / static_cast<double>(count - 1) : 0.0;
-  const double s = t * 4;
-  const int i = std::min(3, static_cast<int>(s));
-  const double f = s - i;
-  Rgb c;
-  for (int k = 0; k < 3; ++k) {
-    c[k] = static_cast<unsigned char>(std::lround(kStops[i][k] * (1 - f) + kStops[i + 1][k] * f));
-  }
-  return c;
-}
 
 std::string hex(const Rgb& c) { return fmt::format("#{:02x}{:02x}{:02x}", c[0], c[1], c[2]); }
 
@@ -80,112 +63,6 @@ double mean_width(const PathPolyline& path) {
     }
   }
   return n ? sum / n : 0.4;
-}
-
-// ---- Software rasterizer for the PNG overview.
-
-struct Canvas {
-  int width;
-  int height;
-  std::vector<unsigned char> rgb;
-  Canvas(int w, int h) : width(w), height(h), rgb(static_cast<size_t>(w) * h * 3, 255) {}
-
-  void blend(int x, int y, const Rgb& c, double coverage) {
-    if (x < 0 || y < 0 || x >= width || y >= height || coverage <= 0) return;
-    unsigned char* p = &rgb[(static_cast<size_t>(y) * width + x) * 3];
-    for (int k = 0; k < 3; ++k) {
-      p[k] =
-          static_cast<unsigned char>(std::lround(p[k] + (c[k] - p[k]) * std::min(1.0, coverage)));
-    }
-  }
-
-  // An anti-aliased segment of width 2 * half (pixels), with round ends, clipped to `clip`.
-  void segment(Eigen::Vector2d a, Eigen::Vector2d b, double half, const Rgb& c,
-               const Eigen::Vector4i& clip) {
-    const int x0 =
-        std::max(clip[0], static_cast<int>(std::floor(std::min(a.x(), b.x()) - half - 1)));
-    const int x1 =
-        std::min(clip[2], static_cast<int>(std::ceil(std::max(a.x(), b.x()) + half + 1)));
-    const int y0 =
-        std::max(clip[1], static_cast<int>(std::floor(std::min(a.y(), b.y()) - half - 1)));
-    const int y1 =
-        std::min(clip[3], static_cast<int>(std::ceil(std::max(a.y(), b.y()) + half + 1)));
-    const Eigen::Vector2d d = b - a;
-    const double len2 = d.squaredNorm();
-    for (int y = y0; y < y1; ++y) {
-      for (int x = x0; x < x1; ++x) {
-        const Eigen::Vector2d p(x + 0.5, y + 0.5);
-        const double t = len2 > 0 ? std::clamp((p - a).dot(d) / len2, 0.0, 1.0) : 0.0;
-        const double dist = (p - (a + t * d)).norm();
-        blend(x, y, c, half + 0.5 - dist);
-      }
-    }
-  }
-
-  void rect(int x0, int y0, int x1, int y1, const Rgb& c) {
-    for (int y = y0; y < y1; ++y) {
-      for (int x = x0; x < x1; ++x) blend(x, y, c, 1);
-    }
-  }
-};
-
-// Digits of a 3 x 5 pixel font, one row per 3 bits (top row first).
-constexpr unsigned short kDigits[10] = {075557, 026227, 071747, 071717, 055711,
-                                        074717, 074757, 071111, 075757, 075717};
-
-void draw_number(Canvas& canvas, int x, int y, size_t value, int scale, const Rgb& c) {
-  const std::string digits = std::to_string(value);
-  for (size_t d = 0; d < digits.size(); ++d) {
-    const unsigned short glyph = kDigits[digits[d] - '0'];
-    for (int row = 0; row < 5; ++row) {
-      for (int col = 0; col < 3; ++col) {
-        if (glyph >> ((4 - row) * 3 + (2 - col)) & 1) {
-          const int px = x + static_cast<int>(d) * 4 * scale + col * scale;
-          const int py = y + row * scale;
-          canvas.rect(px, py, px + scale, py + scale, c);
-        }
-      }
-    }
-  }
-}
-
-void append_chunk(std::vector<unsigned char>& png, const char* type,
-                  const std::vector<unsigned char>& data) {
-  auto be32 = [&png](uint32_t v) {
-    for (int s = 24; s >= 0; s -= 8) png.push_back(static_cast<unsigned char>(v >> s));
-  };
-  be32(static_cast<uint32_t>(data.size()));
-  const size_t start = png.size();
-  png.insert(png.end(), type, type + 4);
-  png.insert(png.end(), data.begin(), data.end());
-  be32(static_cast<uint32_t>(crc32(0, png.data() + start, static_cast<uInt>(png.size() - start))));
-}
-
-std::vector<unsigned char> encode_png(const Canvas& canvas) {
-  std::vector<unsigned char> raw;
-  raw.reserve(static_cast<size_t>(canvas.height) * (canvas.width * 3 + 1));
-  for (int y = 0; y < canvas.height; ++y) {
-    raw.push_back(0);  // filter type None
-    const auto row = canvas.rgb.begin() + static_cast<std::ptrdiff_t>(y) * canvas.width * 3;
-    raw.insert(raw.end(), row, row + canvas.width * 3);
-  }
-  uLongf size = compressBound(static_cast<uLong>(raw.size()));
-  std::vector<unsigned char> compressed(size);
-  if (compress2(compressed.data(), &size, raw.data(), static_cast<uLong>(raw.size()), 6) != Z_OK) {
-    throw std::runtime_error("PNG preview: zlib compression failed");
-  }
-  compressed.resize(size);
-
-  std::vector<unsigned char> png = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
-  std::vector<unsigned char> ihdr;
-  for (uint32_t v : {static_cast<uint32_t>(canvas.width), static_cast<uint32_t>(canvas.height)}) {
-    for (int s = 24; s >= 0; s -= 8) ihdr.push_back(static_cast<unsigned char>(v >> s));
-  }
-  ihdr.insert(ihdr.end(), {8, 2, 0, 0, 0});  // 8 bits, RGB, deflate, no filter, no interlace
-  append_chunk(png, "IHDR", ihdr);
-  append_chunk(png, "IDAT", compressed);
-  append_chunk(png, "IEND", {});
-  return png;
 }
 
 }  // namespace
@@ -266,19 +143,16 @@ std::string layer_svg(const Toolpath& toolpath, size_t layer_index, const Previe
 
 void write_layer_svgs(const std::filesystem::path& folder, const Toolpath& toolpath,
                       const PreviewOptions& options) {
-  std::error_code ec;
-  std::filesystem::create_directories(folder, ec);
-  if (ec) {
-    throw UserError(ErrorCategory::kFile, fmt::format("{}: cannot create the folder ({})",
-                                                      folder.string(), ec.message()));
-  }
   const int digits =
       std::max<int>(3, static_cast<int>(std::to_string(toolpath.layers.size()).size()));
-  for (size_t k = 0; k < toolpath.layers.size(); ++k) {
-    const std::string svg = layer_svg(toolpath, k, options);
-    write_file_atomically(folder / fmt::format("layer_{:0{}}.svg", k + 1, digits), true,
-                          [&](std::ostream& out) { out << svg; });
-  }
+  // The folder appears complete or not at all (an interrupted run leaves no half of it).
+  write_folder_atomically(folder, [&](const std::filesystem::path& tmp) {
+    for (size_t k = 0; k < toolpath.layers.size(); ++k) {
+      const std::string svg = layer_svg(toolpath, k, options);
+      write_file_atomically(tmp / fmt::format("layer_{:0{}}.svg", k + 1, digits), true,
+                            [&](std::ostream& out) { out << svg; });
+    }
+  });
 }
 
 std::vector<size_t> overview_layers(size_t layer_count, int max_panels) {
@@ -349,7 +223,7 @@ std::vector<unsigned char> overview_png(const Toolpath& toolpath, const PreviewO
         }
       }
     }
-    draw_number(canvas, ox + 4, oy + 4, shown[i] + 1, 2, {0, 0, 0});
+    draw_text(canvas, ox + 4, oy + 4, std::to_string(shown[i] + 1), 2, {0, 0, 0});
   }
   return encode_png(canvas);
 }

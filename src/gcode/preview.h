@@ -25,7 +25,8 @@ struct PreviewOptions {
 // drawing area, so that the pictures line up. Sizes in mm (1:1 when printed).
 std::string layer_svg(const Toolpath& toolpath, size_t layer, const PreviewOptions& options = {});
 
-// Writes layer_001.svg, layer_002.svg, ... (bottom first) into `folder`, creating it.
+// Writes layer_001.svg, layer_002.svg, ... (bottom first) into `folder`, created complete under a
+// temporary name and renamed into place; it replaces an earlier `folder` and what was in it.
 void write_layer_svgs(const std::filesystem::path& folder, const Toolpath& toolpath,
                       const PreviewOptions& options = {});
 

@@ -344,7 +344,7 @@ PrinterProfile parse_printer_json(const json& root, const std::string& source) {
 json parse_json(std::string_view text, const std::string& source) {
   try {
     return json::parse(text);
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {  // parse_error, and out_of_range for numbers like 1e400
     fail(source, fmt::format("not valid JSON ({})", e.what()));
   }
 }

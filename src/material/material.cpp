@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "common/atomic_file.h"
 #include "common/embedded_profiles.h"
 #include "common/error.h"
 
@@ -49,7 +50,71 @@ constexpr NumberKey kNumberKeys[] = {
 std::vector<std::string> known_keys() {
   std::vector<std::string> keys = {"name", "description"};
   for (const NumberKey& k : kNumberKeys) keys.emplace_back(k.key);
+  keys.emplace_back("thickness_curve");
   return keys;
+}
+
+// The optional "thickness_curve" object (thickness_curve.h).
+ThicknessCurve parse_thickness_curve(const nlohmann::json& j, const std::string& source) {
+  const std::string where = fmt::format("{}: \"thickness_curve\"", source);
+  if (!j.is_object()) {
+    throw UserError(ErrorCategory::kProfile,
+                    fmt::format("{} must be an object {{\"lambda1_coefficients\": [...], "
+                                "\"min_layer_height\": ..., \"max_layer_height\": ...}}",
+                                where));
+  }
+  const std::vector<std::string> keys = {"description",      "lambda1_coefficients",
+                                         "min_layer_height", "max_layer_height",
+                                         "layers",           "nozzle_temperature"};
+  for (const auto& [key, value] : j.items()) {
+    if (std::find(keys.begin(), keys.end(), key) == keys.end()) {
+      throw UserError(ErrorCategory::kProfile, fmt::format("{}: unknown key \"{}\"; it may hold {}",
+                                                           where, key, fmt::join(keys, ", ")));
+    }
+  }
+  auto number = [&](const char* key, bool required, double fallback) {
+    if (!j.contains(key)) {
+      if (required) {
+        throw UserError(ErrorCategory::kProfile, fmt::format("{} lacks \"{}\"", where, key));
+      }
+      return fallback;
+    }
+    if (!j[key].is_number()) {
+      throw UserError(ErrorCategory::kProfile, fmt::format("{}: \"{}\" must be a number, not {}",
+                                                           where, key, j[key].dump()));
+    }
+    return j[key].get<double>();
+  };
+  ThicknessCurve curve;
+  if (!j.contains("lambda1_coefficients") || !j["lambda1_coefficients"].is_array()) {
+    throw UserError(ErrorCategory::kProfile,
+                    fmt::format("{} needs \"lambda1_coefficients\": an array of 1 to 5 numbers "
+                                "c0, c1, ... with lambda1(h) = c0 + c1 h + ... (h in mm)",
+                                where));
+  }
+  for (const nlohmann::json& c : j["lambda1_coefficients"]) {
+    if (!c.is_number()) {
+      throw UserError(
+          ErrorCategory::kProfile,
+          fmt::format("{}: \"lambda1_coefficients\" holds {}, not a number", where, c.dump()));
+    }
+    curve.lambda1_coefficients.push_back(c.get<double>());
+  }
+  curve.min_layer_height = number("min_layer_height", true, 0);
+  curve.max_layer_height = number("max_layer_height", true, 0);
+  const double layers = number("layers", false, curve.layers);
+  if (layers != std::floor(layers) || layers < 1 || layers > 1000) {
+    throw UserError(
+        ErrorCategory::kProfile,
+        fmt::format("{}: \"layers\" is {}, expected a whole number of layers", where, layers));
+  }
+  curve.layers = static_cast<int>(layers);
+  curve.nozzle_temperature = number("nozzle_temperature", false, 0);
+  if (const std::string problem = thickness_curve_problem(curve); !problem.empty()) {
+    throw UserError(ErrorCategory::kProfile,
+                    fmt::format("{} is unusable: {}; calibrate again", where, problem));
+  }
+  return curve;
 }
 
 Material parse_material(const nlohmann::json& j, const std::string& source, std::string name) {
@@ -91,6 +156,9 @@ Material parse_material(const nlohmann::json& j, const std::string& source, std:
     }
     m.*k.field = x;
   }
+  if (j.contains("thickness_curve")) {
+    m.thickness_curve = parse_thickness_curve(j["thickness_curve"], source);
+  }
   if (m.nozzle_temperature < m.min_nozzle_temperature ||
       m.nozzle_temperature > m.max_nozzle_temperature) {
     throw UserError(ErrorCategory::kProfile,
@@ -112,13 +180,47 @@ Material parse_material(const nlohmann::json& j, const std::string& source, std:
 nlohmann::json parse_json(std::string_view text, const std::string& source) {
   try {
     return nlohmann::json::parse(text);
-  } catch (const nlohmann::json::parse_error& e) {
+  } catch (const nlohmann::json::exception& e) {  // parse_error, and out_of_range for 1e400
     throw UserError(ErrorCategory::kProfile,
                     fmt::format("{}: not valid JSON ({})", source, e.what()));
   }
 }
 
 }  // namespace
+
+Material parse_material_json(std::string_view text, const std::string& source) {
+  const nlohmann::json j = parse_json(text, source);
+  std::string name = j.is_object() && j.contains("name") && j["name"].is_string()
+                         ? j["name"].get<std::string>()
+                         : std::string();
+  return parse_material(j, source, std::move(name));
+}
+
+std::string material_json(const Material& m) {
+  nlohmann::ordered_json j;
+  j["name"] = m.name;
+  j["description"] = m.description;
+  for (const NumberKey& k : kNumberKeys) j[k.key] = m.*k.field;
+  if (m.thickness_curve) {
+    const ThicknessCurve& c = *m.thickness_curve;
+    nlohmann::ordered_json t;
+    t["description"] =
+        "lambda1(h) = sum of lambda1_coefficients[i] * h^i, h the layer height in mm, valid for "
+        "min_layer_height <= h <= max_layer_height; measured on samples of `layers` layers";
+    t["lambda1_coefficients"] = c.lambda1_coefficients;
+    t["min_layer_height"] = c.min_layer_height;
+    t["max_layer_height"] = c.max_layer_height;
+    t["layers"] = c.layers;
+    t["nozzle_temperature"] = c.nozzle_temperature;
+    j["thickness_curve"] = std::move(t);
+  }
+  return j.dump(2) + "\n";
+}
+
+void write_material(const std::filesystem::path& path, const Material& material) {
+  const std::string text = material_json(material);
+  write_file_atomically(path, false, [&](std::ostream& out) { out << text; });
+}
 
 std::vector<std::string> material_preset_names() {
   std::vector<std::string> names;

@@ -4,8 +4,12 @@
 #pragma once
 
 #include <filesystem>
+#include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
+
+#include "material/thickness_curve.h"
 
 namespace flatmorph {
 
@@ -41,6 +45,9 @@ struct Material {
   // Part-cooling fan, percent of full speed, from the second layer on and on the first layer.
   double fan_speed = 100;
   double first_layer_fan_speed = 0;
+  // Optional: lambda1 as a function of the layer height, with its calibrated range (key
+  // "thickness_curve"; `flatmorph calibrate fit` on a --thickness-ramp print writes it).
+  std::optional<ThicknessCurve> thickness_curve;
 };
 
 // Names of the built-in materials, in a fixed order.
@@ -51,5 +58,15 @@ std::vector<std::string> material_preset_names();
 // keys left out keep the paper PLA's values). Throws UserError naming the file or listing the
 // presets when it cannot, and naming the key for a wrong, unknown or out-of-range value.
 Material load_material(const std::string& name_or_path);
+
+// Parses the text of a material file; `source` names it in error messages (UserError kProfile).
+Material parse_material_json(std::string_view text, const std::string& source);
+
+// The material file of `material` (JSON, every key, the order of docs/gcode.md), which
+// load_material reads back to the same values.
+std::string material_json(const Material& material);
+
+// material_json, written atomically to `path`.
+void write_material(const std::filesystem::path& path, const Material& material);
 
 }  // namespace flatmorph

@@ -7,11 +7,13 @@
 #include <cerrno>
 #include <charconv>
 #include <climits>
+#include <cstdint>
 #include <cstdio>
 #include <cstring>
 #include <memory>
 #include <stdexcept>
 
+#include "common/memory.h"
 #include "mesh/io_internal.h"
 
 namespace flatmorph {
@@ -53,7 +55,14 @@ std::string read_whole_file(const std::filesystem::path& path, const std::string
   }
   std::string bytes;
   const auto size = std::filesystem::file_size(path, ec);
-  if (!ec) bytes.reserve(static_cast<std::size_t>(size));
+  if (!ec) {
+    // The file in memory, the arrays parsed from it and the welding/topology tables built next:
+    // a few times the file's size. Refused up front rather than killed by the kernel half-way.
+    require_memory(4 * static_cast<std::uint64_t>(size),
+                   fmt::format("{}: reading this {:.0f} MB mesh", name, size / 1e6),
+                   "use a smaller mesh (decimate it, e.g. with MeshLab's quadric edge collapse)");
+    bytes.reserve(static_cast<std::size_t>(size));
+  }
   char chunk[1 << 16];
   for (;;) {
     const std::size_t n = std::fread(chunk, 1, sizeof chunk, file.get());

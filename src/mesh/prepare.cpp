@@ -5,6 +5,8 @@
 #include <cmath>
 
 #include "common/error.h"
+#include "mesh/subdivide.h"
+#include "mesh/validate.h"
 
 namespace flatmorph {
 
@@ -32,6 +34,15 @@ double scale_to_size(Mesh& mesh, double size_mm) {
   const Eigen::RowVector3d centre = 0.5 * (box.min + box.max).transpose();
   mesh.V = ((mesh.V.rowwise() - centre) * scale).rowwise() + centre;
   return scale;
+}
+
+PreparedTarget prepare_target(Mesh mesh, const std::string& source, int min_faces) {
+  repair_mesh(mesh);
+  require_disk(mesh, source);
+  PreparedTarget out;
+  out.input_faces = mesh.num_faces();
+  out.mesh = loop_subdivide_to(mesh, min_faces).mesh;
+  return out;
 }
 
 }  // namespace flatmorph

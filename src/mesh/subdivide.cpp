@@ -1,7 +1,12 @@
 #include "mesh/subdivide.h"
 
+#include <fmt/core.h>
+
+#include <algorithm>
+#include <cstdint>
 #include <vector>
 
+#include "common/memory.h"
 #include "mesh/topology.h"
 
 namespace flatmorph {
@@ -90,6 +95,16 @@ Subdivision loop_subdivide_to(const Mesh& mesh, int min_faces) {
   result.mesh = mesh;
   result.S.resize(mesh.num_vertices(), mesh.num_vertices());
   result.S.setIdentity();
+  // Each step has 4 times the faces: refuse up front a count the machine cannot hold (the whole
+  // design pipeline's memory, common/memory.h), rather than be killed by the kernel later.
+  std::uint64_t faces = static_cast<std::uint64_t>(mesh.num_faces());
+  while (faces > 0 && faces < static_cast<std::uint64_t>(std::max(min_faces, 0))) faces *= 4;
+  if (faces > static_cast<std::uint64_t>(mesh.num_faces())) {
+    require_memory(faces * kDesignBytesPerFace,
+                   fmt::format("subdividing the target's {} faces to {} (at least {} asked for)",
+                               mesh.num_faces(), faces, min_faces),
+                   "ask for fewer faces (--faces) or close other programs");
+  }
   // A mesh without faces cannot grow; return it as it is rather than loop forever.
   while (result.mesh.num_faces() > 0 && result.mesh.num_faces() < min_faces) {
     Subdivision step = loop_subdivide(result.mesh);

@@ -5,6 +5,8 @@
 #include <chrono>
 #include <cmath>
 
+#include <fmt/core.h>
+
 namespace flatmorph {
 namespace {
 
@@ -70,12 +72,60 @@ std::string_view to_string(NewtonStatus status) {
       return "non-finite energy, gradient or step";
     case NewtonStatus::kFactorizationFailed:
       return "Hessian factorization failed";
+    case NewtonStatus::kDiverged:
+      return "energy or state exploded";
   }
   return "unknown";
 }
 
-NewtonResult newton_minimize(const NewtonProblem& problem, const Eigen::VectorXd& x0,
-                             const NewtonOptions& options) {
+namespace {
+
+// What went wrong and what to change, for NewtonResult::warning.
+std::string advice(const NewtonResult& r, const NewtonOptions& options) {
+  const std::string change =
+      "use a finer mesh (more faces), a smaller plate width, or shrink ratios (lambda) closer to "
+      "1";
+  switch (r.status) {
+    case NewtonStatus::kConverged:
+      return "";
+    case NewtonStatus::kIterationLimit:
+      return fmt::format(
+          "Newton did not converge in {} iterations (last predicted decrease {:.3g}, "
+          "tolerance {:.3g}); the best state found is used; {}",
+          r.iterations, r.history.empty() ? 0.0 : r.history.back().decrement, options.tolerance,
+          change);
+    case NewtonStatus::kLineSearchFailed:
+      return fmt::format(
+          "Newton stalled after {} iterations (no step lowered the energy; gradient "
+          "norm {:.3g}); the best state found is used; this is usually a rounding "
+          "limit and harmless, otherwise {}",
+          r.iterations, r.gradient_norm, change);
+    case NewtonStatus::kNonFinite:
+      return fmt::format(
+          "the energy or its gradient became NaN or infinite after {} iterations; "
+          "the last finite state is used; check the input for degenerate (zero-area) "
+          "triangles, or {}",
+          r.iterations, change);
+    case NewtonStatus::kFactorizationFailed:
+      return fmt::format(
+          "the Hessian could not be factorized after {} iterations; the best state "
+          "found is used; {}",
+          r.iterations, change);
+    case NewtonStatus::kDiverged:
+      return fmt::format(
+          "the energy kept falling without bound (the state exploded) after {} "
+          "iterations; the last state before that is used; {}",
+          r.iterations, change);
+  }
+  return "";
+}
+
+}  // namespace
+
+namespace {
+
+NewtonResult minimize(const NewtonProblem& problem, const Eigen::VectorXd& x0,
+                      const NewtonOptions& options) {
   const int n = problem.num_variables;
   NewtonResult result;
   result.x = x0;
@@ -107,6 +157,10 @@ NewtonResult newton_minimize(const NewtonProblem& problem, const Eigen::VectorXd
   }
   Eigen::VectorXd g = restrict(gradient);
   result.gradient_norm = g.norm();
+  const double energy_floor =
+      result.energy - options.divergence_factor * (std::abs(result.energy) + 1);
+  const double max_move =
+      options.divergence_factor * ((x0.size() ? x0.cwiseAbs().maxCoeff() : 0.0) + 1);
   if (num_free == 0) {
     result.status = NewtonStatus::kConverged;
     return result;
@@ -225,11 +279,24 @@ NewtonResult newton_minimize(const NewtonProblem& problem, const Eigen::VectorXd
       result.status = NewtonStatus::kNonFinite;  // keep the last good state
       break;
     }
+    if (energy < energy_floor || (trial - x0).cwiseAbs().maxCoeff() > max_move) {
+      result.status = NewtonStatus::kDiverged;  // keep the last state before the explosion
+      break;
+    }
     result.x = std::move(trial);
     result.energy = energy;
     g = restrict(trial_gradient);
     result.gradient_norm = g.norm();
   }
+  return result;
+}
+
+}  // namespace
+
+NewtonResult newton_minimize(const NewtonProblem& problem, const Eigen::VectorXd& x0,
+                             const NewtonOptions& options) {
+  NewtonResult result = minimize(problem, x0, options);
+  result.warning = advice(result, options);
   return result;
 }
 

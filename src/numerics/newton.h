@@ -11,6 +11,7 @@
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 #include <functional>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -41,14 +42,19 @@ struct NewtonOptions {
   double armijo_constant = 1e-4;  // sufficient decrease: E(x + s d) <= E(x) + c s g.d
   double backtracking_factor = 0.5;
   int max_line_search_steps = 60;
+  // Stop (kDiverged) when the energy falls below E0 - divergence_factor * (|E0| + 1) or a free
+  // variable moves farther than divergence_factor * (max |x0| + 1) from its start: the problem is
+  // unbounded below, and going on only produces garbage.
+  double divergence_factor = 1e8;
 };
 
 enum class NewtonStatus {
-  kConverged,           // Newton decrement below tolerance with the exact Hessian
-  kIterationLimit,      // max_iterations reached
-  kLineSearchFailed,    // no step along the Newton direction decreased the energy enough
-  kNonFinite,           // the energy, the gradient or the step became NaN or infinite
-  kFactorizationFailed  // even the projected (and shifted) Hessian could not be factorized
+  kConverged,            // Newton decrement below tolerance with the exact Hessian
+  kIterationLimit,       // max_iterations reached
+  kLineSearchFailed,     // no step along the Newton direction decreased the energy enough
+  kNonFinite,            // the energy, the gradient or the step became NaN or infinite
+  kFactorizationFailed,  // even the projected (and shifted) Hessian could not be factorized
+  kDiverged              // the energy or the state exploded (see NewtonOptions::divergence_factor)
 };
 
 std::string_view to_string(NewtonStatus status);
@@ -75,11 +81,17 @@ struct NewtonResult {
   double solve_seconds = 0.0;
   double line_search_seconds = 0.0;
 
+  // Empty when converged; otherwise one sentence for the user: why Newton stopped, that the best
+  // state found is returned, and what to change (finer mesh, smaller plate, other shrink ratios,
+  // more iterations). Callers print it as a warning, prefixed with what was being solved.
+  std::string warning;
+
   bool converged() const { return status == NewtonStatus::kConverged; }
 };
 
 // Minimizes problem.evaluate starting from x0 (size num_variables). Never throws on numerical
-// trouble: it stops and returns the best state with the reason in `status`.
+// trouble (non-convergence, NaN or infinite energy, gradient or step, exploding energy or state):
+// it stops and returns the best finite state reached, with the reason in `status` and `warning`.
 NewtonResult newton_minimize(const NewtonProblem& problem, const Eigen::VectorXd& x0,
                              const NewtonOptions& options = {});
 

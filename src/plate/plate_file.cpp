@@ -3,8 +3,10 @@
 #include <fmt/core.h>
 
 #include <algorithm>
+#include <cstdint>
 
 #include "common/error.h"
+#include "common/memory.h"
 #include "mesh/io.h"
 
 namespace flatmorph {
@@ -15,6 +17,11 @@ PlateFile read_plate_file(const std::filesystem::path& path) {
   if (file.mesh.num_vertices() == 0 || file.mesh.num_faces() == 0) {
     throw UserError(ErrorCategory::kFormat, fmt::format("{}: the plate has no faces", name));
   }
+  // Simulating or tracing a plate takes far more memory than reading it: refuse it up front.
+  require_memory(
+      static_cast<std::uint64_t>(file.mesh.num_faces()) * kDesignBytesPerFace,
+      fmt::format("{}: simulating or printing this plate of {} faces", name, file.mesh.num_faces()),
+      "design a coarser plate (flatmorph flatten/design --faces)");
   const double extent = (file.mesh.V.colwise().maxCoeff() - file.mesh.V.colwise().minCoeff())
                             .head<2>()
                             .maxCoeff();

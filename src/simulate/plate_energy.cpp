@@ -358,6 +358,7 @@ PlateEnergy make_plate_energy(const Eigen::MatrixXd& plate, const Eigen::MatrixX
       const Eigen::Matrix2d kk = normal * normal.transpose() / (double_area * double_area);
       c.bending_map.col(k) = material_strain(kk);
     }
+    for (int j = 0; j < 3; ++j) c.rest_strain_map.col(j) = material_strain(unit[j]);
     c.bending_offset = material_strain(b_bar);
     const double volume_factor = 0.5 * double_area * std::sqrt(a_bar.determinant());
     c.membrane_weight = volume_factor * t / 4;  // Eq. 2, 8
@@ -474,9 +475,84 @@ Eigen::Vector2d plate_energy_terms(const PlateEnergy& energy, const Eigen::Vecto
   return terms;
 }
 
+void set_rest_second_fundamental_forms(PlateEnergy& energy,
+                                       const std::vector<Eigen::Matrix2d>& rest_second_forms) {
+  if (rest_second_forms.size() != energy.faces.size()) {
+    throw UserError(ErrorCategory::kOption,
+                    fmt::format("{} rest second fundamental forms for {} faces: give one per face",
+                                rest_second_forms.size(), energy.faces.size()));
+  }
+  for (size_t f = 0; f < energy.faces.size(); ++f) {
+    const Eigen::Matrix2d& b = rest_second_forms[f];
+    energy.faces[f].bending_offset = energy.faces[f].rest_strain_map *
+                                     Eigen::Vector3d(b(0, 0), b(1, 1), 0.5 * (b(0, 1) + b(1, 0)));
+  }
+}
+
+Eigen::SparseMatrix<double> rest_curvature_mixed_derivative(
+    const PlateEnergy& energy, const Eigen::VectorXd& x,
+    const std::vector<Eigen::Matrix2d>& directions) {
+  const int num_faces = static_cast<int>(energy.F.rows());
+  if (static_cast<int>(directions.size()) != num_faces) {
+    throw UserError(ErrorCategory::kOption,
+                    fmt::format("{} rest curvature directions for {} faces: give one per face",
+                                directions.size(), num_faces));
+  }
+  std::vector<Vec18> columns(num_faces);
+  tbb::parallel_for(tbb::blocked_range<int>(0, num_faces, 64), [&](const tbb::blocked_range<int>&
+                                                                       range) {
+    for (int f = range.begin(); f != range.end(); ++f) {
+      const PlateEnergy::FaceConstants& c = energy.faces[f];
+      const auto& ev = energy.element_vertices.row(f);
+      const Eigen::Vector3d xs[3] = {position(x, ev(0)), position(x, ev(1)), position(x, ev(2))};
+      Eigen::Matrix<double, 3, kElementSize> jphi = Eigen::Matrix<double, 3, kElementSize>::Zero();
+      for (int k = 0; k < 3; ++k) {
+        const int l = ev(3 + k);
+        if (l < 0) continue;
+        const HingeDerivatives h =
+            hinge_derivatives(xs[k], xs[(k + 1) % 3], xs[(k + 2) % 3], position(x, l));
+        const int slot[4] = {k, (k + 1) % 3, (k + 2) % 3, 3 + k};
+        for (int p = 0; p < 4; ++p) {
+          jphi.block<1, 3>(k, 3 * slot[p]) = h.gradient.segment<3>(3 * p).transpose();
+        }
+      }
+      const Eigen::Matrix2d& g = directions[f];
+      const Eigen::Vector3d strain_g =
+          c.rest_strain_map * Eigen::Vector3d(g(0, 0), g(1, 1), 0.5 * (g(0, 1) + g(1, 0)));
+      // ∂W/∂x = 2 w_b jphiᵀ Pᵀ C (P φ − c(s)), ∂c/∂s = strain_g.
+      columns[f] = -2 * c.bending_weight * jphi.transpose() *
+                   (c.bending_map.transpose() * (energy.elasticity * strain_g));
+    }
+  });
+  std::vector<Eigen::Triplet<double>> triplets;
+  triplets.reserve(static_cast<size_t>(num_faces) * kElementSize);
+  for (int f = 0; f < num_faces; ++f) {
+    for (int s = 0; s < 6; ++s) {
+      const int v = energy.element_vertices(f, s);
+      if (v < 0) continue;
+      for (int d = 0; d < 3; ++d) triplets.emplace_back(3 * v + d, f, columns[f](3 * s + d));
+    }
+  }
+  Eigen::SparseMatrix<double> out(3 * energy.num_vertices, num_faces);
+  out.setFromTriplets(triplets.begin(), triplets.end());
+  return out;
+}
+
 double hinge_bending_measure(const Eigen::Vector3d& xi, const Eigen::Vector3d& xj,
                              const Eigen::Vector3d& xk, const Eigen::Vector3d& xl) {
   return hinge_measure(xi, xj, xk, xl);
+}
+
+double unit_strain_energy(const Eigen::MatrixXd& plate, const Eigen::MatrixXi& F,
+                          const Eigen::VectorXd& thickness, const Stiffness& stiffness) {
+  double sum = 0;
+  for (int f = 0; f < F.rows(); ++f) {
+    Eigen::Matrix2d edges;
+    edges << (plate.row(F(f, 1)) - plate.row(F(f, 0))).transpose(),
+        (plate.row(F(f, 2)) - plate.row(F(f, 0))).transpose();
+    sum += 0.5 * std::abs(edges.determinant()) * thickness(f);
+  }
+  return stiffness.young_modulus_along * sum;
 }
 
 }  // namespace flatmorph

@@ -51,6 +51,9 @@ struct PlateEnergy {
     Eigen::Vector3d membrane_offset;
     Eigen::Matrix3d bending_map;
     Eigen::Vector3d bending_offset;
+    // Voigt(Rᵀ ā⁻¹ · R) as a map of (B00, B11, B01) of a symmetric B: bending_offset =
+    // rest_strain_map · (b̄00, b̄11, b̄01).
+    Eigen::Matrix3d rest_strain_map;
     double membrane_weight;  // Â √det ā t/4 (mm³)
     double bending_weight;   // Â √det ā t³/12 (mm⁵)
   };
@@ -85,8 +88,26 @@ double evaluate_plate_energy(const PlateEnergy& energy, const Eigen::VectorXd& x
                              Eigen::VectorXd* gradient, Eigen::SparseMatrix<double>* hessian,
                              bool project);
 
+// E1 · Σ_f Â_f t_f (mJ): the energy of a unit strain, the scale Newton's stopping tolerance is
+// relative to, so that the stopping point does not depend on the plate's size or units.
+double unit_strain_energy(const Eigen::MatrixXd& plate, const Eigen::MatrixXi& F,
+                          const Eigen::VectorXd& thickness, const Stiffness& stiffness);
+
 // The two terms of Eq. 8 separately (membrane, bending), for reports and tests.
 Eigen::Vector2d plate_energy_terms(const PlateEnergy& energy, const Eigen::VectorXd& x);
+
+// Replaces the rest second fundamental forms b̄ (1/mm, one per face) without rebuilding the rest:
+// the inverse design moves b̄ at every iteration. Throws UserError when the count is wrong.
+void set_rest_second_fundamental_forms(PlateEnergy& energy,
+                                       const std::vector<Eigen::Matrix2d>& rest_second_forms);
+
+// The mixed second derivative ∂²W/∂x∂s_f when each face's b̄_f moves along a direction:
+// b̄_f(s) = b̄_f + s_f G_f. W is quadratic in b̄, so column f is −2 Â√det ā (t³/12) (∂ε_b/∂x)ᵀ C
+// ε_M(G_f), with ε_b the bending strain in the material frame (notes §4.2). Returns the 3V x F
+// sparse matrix at positions x (mm), in mJ per mm per unit of s.
+Eigen::SparseMatrix<double> rest_curvature_mixed_derivative(
+    const PlateEnergy& energy, const Eigen::VectorXd& x,
+    const std::vector<Eigen::Matrix2d>& directions);
 
 // φ_e = θ_e · 2A/ℓ_e for the hinge at edge (i → j) of the face (i, j, k), with l the vertex across
 // the edge; θ_e > 0 when the hinge bends toward the face's normal (x_j − x_i) × (x_k − x_i).

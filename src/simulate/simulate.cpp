@@ -2,46 +2,14 @@
 
 #include <fmt/core.h>
 
-#include <Eigen/Geometry>
+#include <Eigen/LU>
 #include <chrono>
-#include <limits>
 
 #include "common/error.h"
 #include "simulate/distance.h"
+#include "simulate/rigid_frame.h"
 
 namespace flatmorph {
-namespace {
-
-// The face whose rest centroid is nearest the mean vertex (ties: the lowest index).
-int central_face(const Eigen::MatrixXd& plate, const Eigen::MatrixXi& F) {
-  const Eigen::RowVector2d center = plate.colwise().mean();
-  int best = 0;
-  double best_distance = std::numeric_limits<double>::infinity();
-  for (int f = 0; f < F.rows(); ++f) {
-    const Eigen::RowVector2d c = (plate.row(F(f, 0)) + plate.row(F(f, 1)) + plate.row(F(f, 2))) / 3;
-    const double d = (c - center).squaredNorm();
-    if (d < best_distance) {
-      best_distance = d;
-      best = f;
-    }
-  }
-  return best;
-}
-
-// The rotation whose rows are the frame of triangle (p0, p1, p2): first edge, in-plane normal to
-// it, face normal. Applied to x − p0 it puts p0 at the origin, p1 on +x and p2 in the xy plane.
-Eigen::Matrix3d face_frame(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1,
-                           const Eigen::Vector3d& p2) {
-  const Eigen::Vector3d e1 = (p1 - p0).normalized();
-  const Eigen::Vector3d e3 = (p1 - p0).cross(p2 - p0).normalized();
-  Eigen::Matrix3d frame;
-  frame.row(0) = e1.transpose();
-  frame.row(1) = e3.cross(e1).transpose();
-  frame.row(2) = e3.transpose();
-  return frame;
-}
-
-}  // namespace
 
 SimulationResult simulate(const PlateProblem& problem, const Eigen::MatrixXd& start,
                           const SimulationOptions& options) {
@@ -60,35 +28,8 @@ SimulationResult simulate(const PlateProblem& problem, const Eigen::MatrixXd& st
   const PlateEnergy energy =
       make_plate_energy(problem.plate, problem.F, problem.rest_forms, problem.stiffness);
 
-  // 3-2-1 frame on the central face.
-  const int f = central_face(problem.plate, problem.F);
-  const int v0 = problem.F(f, 0), v1 = problem.F(f, 1), v2 = problem.F(f, 2);
-  const Eigen::Vector3d origin = start.row(v0).transpose();
-  const Eigen::Matrix3d frame =
-      face_frame(origin, start.row(v1).transpose(), start.row(v2).transpose());
-  if (!frame.allFinite()) {
-    throw UserError(ErrorCategory::kGeometry,
-                    fmt::format("the start shape's face {} (the plate's central face) is "
-                                "degenerate: give a start shape without zero-area triangles",
-                                f));
-  }
-  Eigen::VectorXd x0(3 * nv);
-  for (int v = 0; v < nv; ++v) {
-    x0.segment<3>(3 * v) = frame * (start.row(v).transpose() - origin);
-  }
-  // The fixed coordinates are exactly 0 in this frame.
-  x0.segment<3>(3 * v0).setZero();
-  x0.segment<2>(3 * v1 + 1).setZero();
-  x0(3 * v2 + 2) = 0;
-
-  double energy_scale = 0;
-  for (int g = 0; g < problem.F.rows(); ++g) {
-    Eigen::Matrix2d edges;
-    edges << (problem.plate.row(problem.F(g, 1)) - problem.plate.row(problem.F(g, 0))).transpose(),
-        (problem.plate.row(problem.F(g, 2)) - problem.plate.row(problem.F(g, 0))).transpose();
-    energy_scale += 0.5 * edges.determinant() * problem.rest_forms.thickness(g);
-  }
-  energy_scale *= problem.stiffness.young_modulus_along;
+  const RigidFrame frame = central_face_frame(problem.plate, problem.F, start, "the start shape");
+  const Eigen::VectorXd x0 = to_frame(frame, start);
 
   NewtonProblem newton;
   newton.num_variables = 3 * nv;
@@ -96,17 +37,16 @@ SimulationResult simulate(const PlateProblem& problem, const Eigen::MatrixXd& st
                               Eigen::SparseMatrix<double>* h, bool project) {
     return evaluate_plate_energy(energy, x, g, h, project);
   };
-  newton.fixed_variables = {3 * v0, 3 * v0 + 1, 3 * v0 + 2, 3 * v1 + 1, 3 * v1 + 2, 3 * v2 + 2};
+  newton.fixed_variables = frame.fixed_variables;
   NewtonOptions newton_options;
   newton_options.max_iterations = options.max_iterations;
-  newton_options.tolerance = options.relative_tolerance * energy_scale;
+  newton_options.tolerance =
+      options.relative_tolerance *
+      unit_strain_energy(problem.plate, problem.F, problem.rest_forms.thickness, problem.stiffness);
   const NewtonResult r = newton_minimize(newton, x0, newton_options);
 
   SimulationResult out;
-  out.V.resize(nv, 3);
-  for (int v = 0; v < nv; ++v) {
-    out.V.row(v) = (frame.transpose() * r.x.segment<3>(3 * v) + origin).transpose();
-  }
+  out.V = from_frame(frame, r.x);
   out.energy = r.energy;
   const Eigen::Vector2d terms = plate_energy_terms(energy, r.x);
   out.membrane_energy = terms(0);

@@ -1,6 +1,9 @@
 #include "toolpath/layer_paths.h"
 
+#include <fmt/core.h>
+
 #include <chrono>
+#include <cmath>
 #include <string>
 
 #include "common/error.h"
@@ -90,6 +93,8 @@ LayerPaths shrink_morph_layer_paths(const Eigen::MatrixXd& plate, const Eigen::M
   }
   out.timings.fields = seconds_since(start);
 
+  report_progress(options.progress, {"trajectories", 0, options.num_layers, NAN,
+                                     fmt::format("stripe patterns on {} faces", refined.F.rows())});
   start = Clock::now();
   StripeOptions stripe_options = options.stripes;
   stripe_options.spacing = s;
@@ -210,6 +215,8 @@ LayerPaths shrink_morph_layer_paths(const Eigen::MatrixXd& plate, const Eigen::M
     report.paths = static_cast<int>(layer.paths.size());
     out.timings.ordering += seconds_since(start);
     out.toolpath.layers.push_back(std::move(layer));
+    report_progress(options.progress, {"trajectories", k, options.num_layers, NAN,
+                                       fmt::format("layer {}: {} paths", k, report.paths)});
     out.layers.push_back(std::move(report));
   }
   return out;

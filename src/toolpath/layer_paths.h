@@ -6,6 +6,7 @@
 #include <Eigen/Core>
 #include <vector>
 
+#include "common/progress.h"
 #include "toolpath/order_paths.h"
 #include "toolpath/stripe_patterns.h"
 #include "toolpath/toolpath.h"
@@ -33,6 +34,7 @@ struct LayerPathOptions {
   int perimeters = 0;
   StripeOptions stripes;  // its spacing is overwritten by `spacing`
   OrderOptions order;
+  ProgressCallback progress;  // stage "trajectories": the stripe patterns, then layer by layer
 };
 
 // One layer's figures.

@@ -112,6 +112,15 @@ FlatPlate flatten(const Mesh& input, const FlattenOptions& options) {
   if (options.flip) target.F.col(1).swap(target.F.col(2));
   const Eigen::MatrixXd& V = target.V;
   const Eigen::MatrixXi& F = target.F;
+  int phase = 0;
+  const int phases = options.w_D > 0 ? 4 : 3;
+  auto add_step = [&](FlattenStep step) {
+    report_progress(options.progress,
+                    {"flatten", ++phase, phases, NAN,
+                     fmt::format("{}, {} iterations{}", step.name, step.iterations,
+                                 step.converged ? "" : " (not converged)")});
+    result.steps.push_back(std::move(step));
+  };
 
   Eigen::VectorXi component;
   const std::vector<std::vector<int>> loops = boundary_loops(F);
@@ -145,7 +154,7 @@ FlatPlate flatten(const Mesh& input, const FlattenOptions& options) {
   auto start = std::chrono::steady_clock::now();
   const Eigen::MatrixXd tutte =
       tutte_embedding(V, F, loops[0], std::sqrt(total_area / std::numbers::pi));
-  result.steps.push_back({"tutte", 1, seconds_since(start), true});
+  add_step({"tutte", 1, seconds_since(start), true});
 
   auto warn_cap = [&](const char* name) {
     result.warnings.push_back(
@@ -159,7 +168,7 @@ FlatPlate flatten(const Mesh& input, const FlattenOptions& options) {
   Eigen::MatrixXd P = tutte;
   const LocalGlobalStats arap =
       solver.solve(P, 1.0, 1.0, options.tolerance, options.max_iterations);
-  result.steps.push_back({"arap", arap.iterations, seconds_since(start), arap.converged});
+  add_step({"arap", arap.iterations, seconds_since(start), arap.converged});
   if (!arap.converged) warn_cap("ARAP");
 
   // The paper's start for Eq. 11: the ARAP plate stretched by (1/lambda1, 1/lambda2). Which plate
@@ -193,8 +202,7 @@ FlatPlate flatten(const Mesh& input, const FlattenOptions& options) {
     anisotropic_iterations += stats.iterations;
     best_stats.converged = stats.converged;
   }
-  result.steps.push_back(
-      {"anisotropic", anisotropic_iterations, seconds_since(start), best_stats.converged});
+  add_step({"anisotropic", anisotropic_iterations, seconds_since(start), best_stats.converged});
   if (!best_stats.converged) warn_cap("anisotropic");
 
   // Local/global does not guarantee positive triangles, even with the orientation-preserving local
@@ -215,7 +223,7 @@ FlatPlate flatten(const Mesh& input, const FlattenOptions& options) {
     const SmoothingStats stats =
         smooth_directions(P, F, frames, dual_edges(V, F, frames), s1, s2, options.w_D,
                           options.newton_tolerance, options.max_newton_iterations);
-    result.steps.push_back({"smoothing", stats.iterations, seconds_since(start), stats.converged});
+    add_step({"smoothing", stats.iterations, seconds_since(start), stats.converged});
     if (!stats.converged) {
       result.warnings.push_back(
           fmt::format("Eq. 12 Newton stopped after {} iterations before converging (cap {})",

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "common/progress.h"
 #include "mesh/mesh.h"
 
 namespace flatmorph {
@@ -36,6 +37,8 @@ struct FlattenOptions {
   // dimensionless), or after `max_newton_iterations` (with a warning).
   double newton_tolerance = 1e-10;
   int max_newton_iterations = 200;
+  // Stage "flatten": one report after each phase (Tutte, ARAP, anisotropic, smoothing).
+  ProgressCallback progress;
 };
 
 // How far the plate's differential is from the one printing can make: per face the relative

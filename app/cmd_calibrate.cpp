@@ -1,0 +1,314 @@
+// flatmorph calibrate print | fit: print the material samples of Shrink & Morph §4 (or the
+// thickness ramp of SCF 2020 §6), then fit a material file to their measurements.
+// docs/calibration.md
+#include <fmt/core.h>
+
+#include <filesystem>
+
+#include "calibration/calibration_print.h"
+#include "calibration/fit.h"
+#include "calibration/measurements.h"
+#include "commands.h"
+#include "common/atomic_file.h"
+#include "common/error.h"
+#include "gcode/gcode_writer.h"
+#include "gcode/printer_profile.h"
+#include "material/material.h"
+
+namespace flatmorph::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct PrintOptions {
+  std::string printer;
+  std::string material;
+  std::vector<double> nozzle_temps;
+  std::vector<double> layer_heights;
+  int repeats = 4;
+  std::vector<double> size = {80, 20};
+  double thickness = 0.8;
+  bool thickness_ramp = false;
+  int ramp_layers = 6;
+  double spacing = 0;
+  double gap = 5;
+  std::string output;
+};
+
+struct FitOptions {
+  std::vector<std::string> sheets;
+  std::string output;
+  int set = 0;
+  std::string material;
+  std::string name;
+  std::string plot;
+};
+
+void write_text(const fs::path& path, const std::string& text) {
+  write_file_atomically(path, false, [&](std::ostream& out) { out << text; });
+}
+
+int run_print(const PrintOptions& o, const GlobalOptions& global) {
+  if (o.size.size() != 2) {
+    throw UserError(ErrorCategory::kOption, "--size takes two numbers: LENGTH,WIDTH in mm");
+  }
+  const PrinterProfile printer = load_printer(o.printer);
+  const Material material = load_material(o.material);
+  CalibrationPrintOptions options;
+  options.thickness_ramp = o.thickness_ramp;
+  if (!o.nozzle_temps.empty()) {
+    options.nozzle_temperatures = o.nozzle_temps;
+  } else if (o.thickness_ramp) {
+    options.nozzle_temperatures = {material.nozzle_temperature};
+  }
+  if (!o.layer_heights.empty()) {
+    options.layer_heights = o.layer_heights;
+  } else if (o.thickness_ramp) {
+    options.layer_heights = {0.08, 0.12, 0.16, 0.20, 0.24, 0.28};
+  }
+  options.repeats = o.repeats;
+  options.length = o.size[0];
+  options.width = o.size[1];
+  options.thickness = o.thickness;
+  options.ramp_layers = o.ramp_layers;
+  options.spacing = o.spacing;
+  options.gap = o.gap;
+  options.set_gap = std::max(2 * o.gap, 10.0);
+  const CalibrationPlan plan = plan_calibration(printer, material, options);
+
+  // Every file is made (and checked) before any is written.
+  const fs::path out(o.output);
+  const fs::path stem = out.parent_path() / out.stem();
+  const std::string extension = out.has_extension() ? out.extension().string() : ".gcode";
+  std::vector<fs::path> gcode_paths;
+  std::vector<GcodeResult> results;
+  std::vector<Eigen::Vector2d> offsets;
+  std::vector<std::string> names;
+  for (size_t p = 0; p < plan.plates.size(); ++p) {
+    gcode_paths.push_back(plan.plates.size() == 1
+                              ? out
+                              : fs::path(fmt::format("{}-{}{}", stem.string(), p + 1, extension)));
+    GcodeOptions gcode_options;
+    gcode_options.sections = plan.plates[p].sections;
+    results.push_back(make_gcode(plan.plates[p].toolpath, printer,
+                                 plate_material(plan, p, material), gcode_options));
+    offsets.push_back(results.back().plate_to_bed);
+    names.push_back(gcode_paths.back().filename().string());
+  }
+  const fs::path csv = fs::path(stem.string() + ".csv");
+  const fs::path svg = fs::path(stem.string() + ".svg");
+  if (!out.parent_path().empty()) fs::create_directories(out.parent_path());
+  for (size_t p = 0; p < plan.plates.size(); ++p) write_text(gcode_paths[p], results[p].text);
+  write_text(csv, calibration_csv_template(plan, material, printer));
+  write_text(svg, calibration_layout_svg(plan, printer, offsets, names));
+
+  if (!global.quiet) {
+    fmt::print(
+        "{} {} of {} samples ({:g} x {:g} mm, paths {:.3f} mm apart along the length), {} "
+        "per set, material {}, printer {}\n",
+        plan.sets.size(), o.thickness_ramp ? "thickness-ramp sets" : "sets", plan.samples.size(),
+        options.length, options.width, plan.extrusion_width, options.repeats, material.name,
+        printer.name);
+    for (const CalibrationSet& set : plan.sets) {
+      fmt::print("  {} ({:.2f} mm thick)\n", set.label(), set.thickness());
+    }
+    for (size_t p = 0; p < plan.plates.size(); ++p) {
+      const long s = std::lround(results[p].print_time);
+      fmt::print("wrote {}: {} sets, about {}h {:02}m {:02}s without heating, {:.1f} g\n",
+                 gcode_paths[p].string(), plan.plates[p].sets.size(), s / 3600, (s / 60) % 60,
+                 s % 60, results[p].filament_mass);
+    }
+    fmt::print("wrote {} (fill in after heating) and {} (layout and notch legend)\n", csv.string(),
+               svg.string());
+    fmt::print("then: flatmorph calibrate fit {} -o my-material.json\n", csv.string());
+  }
+  return 0;
+}
+
+int run_fit(const FitOptions& o, const GlobalOptions& global) {
+  std::vector<MeasurementSheet> sheets;
+  for (const std::string& path : o.sheets) sheets.push_back(read_measurements(path));
+  bool any_sets = false;
+  for (const MeasurementSheet& s : sheets) any_sets = any_sets || !s.thickness_ramp;
+
+  // Candidates: the sets of the ordinary sheets (or of the ramps when there are none).
+  std::vector<SetFit> sets;
+  const MeasurementSheet* base_sheet = nullptr;
+  std::optional<ThicknessCurve> curve;
+  for (const MeasurementSheet& s : sheets) {
+    if (s.thickness_ramp) {
+      if (curve) {
+        throw UserError(ErrorCategory::kOption,
+                        fmt::format("{}: a second thickness-ramp sheet; give one", s.source));
+      }
+      curve = fit_thickness_curve(s);
+    }
+    if (s.thickness_ramp == any_sets) continue;
+    for (const SetFit& f : fit_sets(s)) {
+      if (o.set > 0 && f.set == o.set && base_sheet != nullptr && base_sheet != &s) {
+        throw UserError(ErrorCategory::kOption,
+                        fmt::format("--set {} is in {} and in {}: fit them one at a time", o.set,
+                                    base_sheet->source, s.source));
+      }
+      if (o.set == 0 || f.set == o.set) base_sheet = &s;
+      sets.push_back(f);
+    }
+    if (base_sheet == nullptr) base_sheet = &s;
+  }
+  if (sets.empty()) {
+    throw UserError(ErrorCategory::kFormat, "no set has a measured sample: nothing to fit");
+  }
+  std::vector<SetFit> ranked = sets;
+  rank_sets(ranked);
+  const SetFit* chosen = &ranked.front();
+  if (o.set > 0) {
+    chosen = nullptr;
+    for (const SetFit& f : ranked) {
+      if (f.set == o.set) chosen = &f;
+    }
+    if (chosen == nullptr) {
+      throw UserError(
+          ErrorCategory::kOption,
+          fmt::format("--set {}: no such set with measured samples in the sheets", o.set));
+    }
+  }
+  Material base;
+  if (!o.material.empty()) {
+    base = load_material(o.material);
+  } else if (base_sheet->material) {
+    base = *base_sheet->material;
+  } else {
+    base = load_material("pla-generic");
+  }
+  const fs::path out(o.output);
+  const std::string name = o.name.empty() ? out.stem().string() : o.name;
+  std::string description = fmt::format(
+      "calibrated by flatmorph calibrate fit from {}: set {} ({:g} C, {:g} mm x {} layers, "
+      "{:.2f} mm), {} samples, contraction {:.1f} +- {:.1f} %",
+      base_sheet->source, chosen->set, chosen->nozzle_temperature, chosen->layer_height,
+      chosen->layers, chosen->thickness, chosen->samples, chosen->contraction_pct.mean,
+      chosen->contraction_pct.std);
+  if (!chosen->delta_lambda1) description += "; delta_lambda1 not measured (kept the base's)";
+  Material fitted = fitted_material(base, *chosen, name, description);
+  fitted.thickness_curve = curve;
+
+  const fs::path plot = o.plot.empty() ? fs::path(out).replace_extension(".svg") : fs::path(o.plot);
+  if (!out.parent_path().empty()) fs::create_directories(out.parent_path());
+  write_material(out, fitted);
+  std::vector<SetFit> all;
+  for (const MeasurementSheet& s : sheets) {
+    for (const SetFit& f : fit_sets(s)) all.push_back(f);
+  }
+  write_text(plot, contraction_plot_svg(all, curve));
+
+  if (!global.quiet) {
+    fmt::print(
+        "rank  set  nozzle C  layer mm  layers  n   lambda1        lambda2        "
+        "lambda3        contraction %   curvature /mm      delta_lambda1\n");
+    for (size_t r = 0; r < ranked.size(); ++r) {
+      const SetFit& f = ranked[r];
+      fmt::print(
+          "{:>4}  {:>3}  {:>8g}  {:>8g}  {:>6}  {:>2}  {:.3f}+-{:.3f}  {:.3f}+-{:.3f}  "
+          "{:.3f}+-{:.3f}  {:>5.1f}+-{:<5.1f}   {}  {}{}\n",
+          r + 1, f.set, f.nozzle_temperature, f.layer_height, f.layers, f.samples, f.lambda1.mean,
+          f.lambda1.std, f.lambda2.mean, f.lambda2.std, f.lambda3.mean, f.lambda3.std,
+          f.contraction_pct.mean, f.contraction_pct.std,
+          f.curvature ? fmt::format("{:.4f}+-{:.4f}", f.curvature->mean, f.curvature->std)
+                      : std::string("    (not measured)"),
+          f.delta_lambda1
+              ? fmt::format("{:+.4f}+-{:.4f}", f.delta_lambda1->mean, f.delta_lambda1->std)
+              : std::string("-"),
+          &f == chosen ? "  <- written" : "");
+    }
+    if (curve) {
+      fmt::print(
+          "thickness curve: lambda1(h), degree {}, for layer heights {:g} to {:g} mm "
+          "({} layers): lambda1 {:.3f} to {:.3f}\n",
+          curve->lambda1_coefficients.size() - 1, curve->min_layer_height, curve->max_layer_height,
+          curve->layers, lambda1_at_layer_height(*curve, curve->min_layer_height),
+          lambda1_at_layer_height(*curve, curve->max_layer_height));
+    }
+    fmt::print("wrote {} (use it with --material {}) and {}\n", out.string(), out.string(),
+               plot.string());
+  }
+  return 0;
+}
+
+}  // namespace
+
+Command make_calibrate_command(CLI::App& app, const GlobalOptions& global) {
+  CLI::App* sub = app.add_subcommand(
+      "calibrate",
+      "Measure your own filament: 'calibrate print' writes G-code for test samples (one set per "
+      "nozzle temperature and layer height), 'calibrate fit' turns their measurements into a "
+      "material file (docs/calibration.md).");
+  sub->require_subcommand(1);
+
+  auto p = std::make_shared<PrintOptions>();
+  CLI::App* print = sub->add_subcommand(
+      "print",
+      "Write the G-code of the calibration samples (Shrink & Morph §4.1: 80 x 20 x 0.8 mm "
+      "cuboids, paths along the length, each sample's id notched into one end), a CSV template "
+      "to fill in (OUT.csv) and the layout with sample ids (OUT.svg). Several G-code files "
+      "(OUT-1.gcode, ...) when the samples do not fit one bed.");
+  print->add_option("--printer", p->printer, "Printer preset name or JSON file")->required();
+  print
+      ->add_option("--material", p->material,
+                   "Material preset name or JSON file: bed, speeds, "
+                   "fan and the safe temperature range")
+      ->required();
+  print
+      ->add_option("--nozzle-temps", p->nozzle_temps,
+                   "Nozzle temperatures, C (default 190,200,210; with --thickness-ramp the "
+                   "material's)")
+      ->delimiter(',');
+  print
+      ->add_option("--layer-heights", p->layer_heights,
+                   "Layer heights, mm (default 0.08,0.12,0.16; with --thickness-ramp "
+                   "0.08,0.12,...,0.28)")
+      ->delimiter(',');
+  print->add_option("--repeats", p->repeats, "Samples per set")->capture_default_str();
+  print->add_option("--size", p->size, "Sample LENGTH,WIDTH in mm")
+      ->delimiter(',')
+      ->expected(2)
+      ->capture_default_str();
+  print
+      ->add_option("--thickness", p->thickness,
+                   "Sample thickness, mm: round(thickness / layer height) layers")
+      ->capture_default_str();
+  print->add_flag("--thickness-ramp", p->thickness_ramp,
+                  "Layer-thickness calibration (SCF 2020 §6): samples of --ramp-layers layers "
+                  "over a range of layer heights, one nozzle temperature");
+  print->add_option("--ramp-layers", p->ramp_layers, "Layers of a thickness-ramp sample")
+      ->capture_default_str();
+  print->add_option("--spacing", p->spacing,
+                    "Distance between paths = extrusion width, mm (default: the nozzle diameter)");
+  print->add_option("--gap", p->gap, "Gap between samples, mm")->capture_default_str();
+  print->add_option("-o,--output", p->output, "G-code file to write (OUT.gcode)")->required();
+
+  auto f = std::make_shared<FitOptions>();
+  CLI::App* fit = sub->add_subcommand(
+      "fit",
+      "Fit a material file to the filled-in measurement CSV(s) of 'calibrate print': lambda1, "
+      "lambda2, lambda3 (mean and std per set), the contraction, delta_lambda1 = -h lambda3 "
+      "lambda1 kappa from the curl (Shrink & Morph §4.2); ranks the sets by contraction and "
+      "writes the best (or --set); a thickness-ramp CSV adds the thickness curve. Also writes "
+      "OUT.svg, contraction vs layer height per temperature (Fig. 8).");
+  fit->add_option("measurements", f->sheets, "Filled-in CSV file(s)")->required();
+  fit->add_option("-o,--output", f->output, "Material file to write (JSON)")->required();
+  fit->add_option("--set", f->set, "Write this set instead of the best one (the set column)");
+  fit->add_option("--material", f->material,
+                  "Base material for the keys not measured (default: the one the samples were "
+                  "printed with, recorded in the CSV)");
+  fit->add_option("--name", f->name, "Material name (default: the output file's name)");
+  fit->add_option("--plot", f->plot, "Plot file (default: OUT with .svg)");
+
+  return {sub, [sub, print, fit, p, f, &global] {
+            (void)sub;
+            if (print->parsed()) return run_print(*p, global);
+            if (fit->parsed()) return run_fit(*f, global);
+            return 2;
+          }};
+}
+
+}  // namespace flatmorph::cli

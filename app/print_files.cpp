@@ -1,0 +1,108 @@
+#include "print_files.h"
+
+#include <fmt/core.h>
+
+#include <chrono>
+#include <cmath>
+
+#include "gcode/preview.h"
+#include "mesh/topology.h"
+
+namespace flatmorph::cli {
+namespace {
+
+std::string duration(double seconds) {
+  const long s = std::lround(seconds);
+  return fmt::format("{}h {:02}m {:02}s", s / 3600, (s / 60) % 60, s % 60);
+}
+
+}  // namespace
+
+PrintPlan plan_print(const Eigen::MatrixXd& plate, const Eigen::MatrixXi& F,
+                     const Eigen::VectorXd& theta1, const Eigen::VectorXd& theta2,
+                     const PrinterProfile& printer, const Material& material,
+                     const PrintFilesOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  LayerPathOptions path_options;
+  path_options.num_layers = options.layers;
+  path_options.layer_height = material.layer_height;
+  path_options.spacing = options.spacing_mm > 0 ? options.spacing_mm : printer.nozzle_diameter;
+  path_options.progress = options.progress;
+  PrintPlan plan;
+  plan.paths = shrink_morph_layer_paths(plate, F, theta1, theta2, path_options);
+  if (options.at_mm) plan.gcode_options.at = *options.at_mm;
+  plan.gcode_options.skirt_loops = options.skirt_loops;
+  plan.gcode = make_gcode(plan.paths.toolpath, printer, material, plan.gcode_options);
+  for (const std::vector<int>& loop : boundary_loops(F)) {
+    Eigen::MatrixX2d outline(loop.size(), 2);
+    for (size_t i = 0; i < loop.size(); ++i) outline.row(i) = plate.row(loop[i]);
+    plan.outline.push_back(outline);
+  }
+  plan.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return plan;
+}
+
+void write_print_files(const std::filesystem::path& dir, const PrintPlan& plan,
+                       const PrinterProfile& printer, const Material& material) {
+  PreviewOptions preview;
+  preview.outline = plan.outline;
+  write_layer_svgs(dir / "layers", plan.paths.toolpath, preview);
+  write_overview_png(dir / "layers" / "overview.png", plan.paths.toolpath, preview);
+  write_gcode(dir / "plate.gcode", plan.paths.toolpath, printer, material, plan.gcode_options);
+}
+
+nlohmann::ordered_json plan_summary_json(const PrintPlan& plan, const PrinterProfile& printer) {
+  nlohmann::ordered_json j;
+  j["printer"] = printer.name;
+  j["refined_faces"] = plan.paths.refined_faces;
+  nlohmann::ordered_json layers = nlohmann::ordered_json::array();
+  double travel = 0, greedy = 0;
+  for (const LayerPathReport& r : plan.paths.layers) {
+    layers.push_back({{"layer", r.layer},
+                      {"z_mm", r.z},
+                      {"paths", r.paths},
+                      {"printed_mm", r.extrusion_mm},
+                      {"travel_mm", r.travel_mm},
+                      {"greedy_travel_mm", r.travel_greedy_mm},
+                      {"forks", r.stripe_singular_faces}});
+    travel += r.travel_mm;
+    greedy += r.travel_greedy_mm;
+  }
+  j["layers"] = layers;
+  j["travel_mm"] = travel;
+  j["greedy_travel_mm"] = greedy;
+  j["plate_to_bed_mm"] = {plan.gcode.plate_to_bed.x(), plan.gcode.plate_to_bed.y()};
+  j["print_time_s"] = plan.gcode.print_time;
+  j["filament_mm"] = plan.gcode.filament_length;
+  j["filament_g"] = plan.gcode.filament_mass;
+  j["t_traj_s"] = plan.seconds;
+  return j;
+}
+
+void print_plan_summary(const PrintPlan& plan, const PrinterProfile& printer) {
+  const LayerPaths& paths = plan.paths;
+  fmt::print("refined plate: {} faces, mean edge {:.3f} mm\n", paths.refined_faces,
+             paths.refined_mean_edge_mm);
+  fmt::print("layer   z (mm)  paths  printed (mm)  travel (mm)  greedy travel (mm)  forks\n");
+  double travel = 0, greedy = 0;
+  for (const LayerPathReport& r : paths.layers) {
+    fmt::print("{:>5}  {:>7.3f}  {:>5}  {:>12.0f}  {:>11.0f}  {:>18.0f}  {:>5}\n", r.layer, r.z,
+               r.paths, r.extrusion_mm, r.travel_mm, r.travel_greedy_mm, r.stripe_singular_faces);
+    travel += r.travel_mm;
+    greedy += r.travel_greedy_mm;
+  }
+  fmt::print("travel: {:.0f} mm ({:.0f} % shorter than greedy nearest neighbour)\n", travel,
+             greedy > 0 ? 100 * (1 - travel / greedy) : 0.0);
+  fmt::print(
+      "time: refinement {:.2f} s, fields {:.2f} s, stripes {:.2f} s, extraction {:.2f} "
+      "s, ordering {:.2f} s\n",
+      paths.timings.refinement, paths.timings.fields, paths.timings.eigenvector,
+      paths.timings.extraction, paths.timings.ordering);
+  fmt::print("printer: {} ({}); plate placed at bed = plate + ({:.3f}, {:.3f}) mm\n", printer.name,
+             describe_bed(printer), plan.gcode.plate_to_bed.x(), plan.gcode.plate_to_bed.y());
+  fmt::print("estimated print time {}, filament {:.2f} m ({:.1f} g)\n",
+             duration(plan.gcode.print_time), plan.gcode.filament_length / 1000,
+             plan.gcode.filament_mass);
+}
+
+}  // namespace flatmorph::cli

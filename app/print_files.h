@@ -1,0 +1,52 @@
+// The print files of a designed plate, shared by `toolpaths` and `design`: the trajectories of
+// every layer (toolpath/layer_paths.h), the checked G-code for a printer, and the layer previews.
+#pragma once
+
+#include <Eigen/Core>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <optional>
+
+#include "gcode/gcode_writer.h"
+#include "gcode/printer_profile.h"
+#include "material/material.h"
+#include "toolpath/layer_paths.h"
+
+namespace flatmorph::cli {
+
+struct PrintFilesOptions {
+  int layers = 10;
+  double spacing_mm = 0;                 // 0: the printer's nozzle diameter
+  std::optional<Eigen::Vector2d> at_mm;  // plate placement on the bed; default centred
+  int skirt_loops = 0;
+  ProgressCallback progress;
+};
+
+struct PrintPlan {
+  LayerPaths paths;
+  GcodeOptions gcode_options;
+  GcodeResult gcode;  // planned and checked, not yet written
+  std::vector<Eigen::MatrixX2d> outline;
+  double seconds = 0;  // trajectories and G-code planning, wall clock
+};
+
+// Traces and orders the trajectories of the plate (#V x 2 mm; theta1 per face, theta2 per vertex,
+// rad) and plans the G-code; throws UserError (kInfeasible) when the plate does not fit the
+// printer, before anything is written.
+PrintPlan plan_print(const Eigen::MatrixXd& plate, const Eigen::MatrixXi& F,
+                     const Eigen::VectorXd& theta1, const Eigen::VectorXd& theta2,
+                     const PrinterProfile& printer, const Material& material,
+                     const PrintFilesOptions& options);
+
+// Writes dir/plate.gcode, dir/layers/layer_NNN.svg and dir/layers/overview.png.
+void write_print_files(const std::filesystem::path& dir, const PrintPlan& plan,
+                       const PrinterProfile& printer, const Material& material);
+
+// The figures of print_plan_summary as JSON: per layer (z, paths, printed and travel mm), totals,
+// print time (s), filament (mm, g), placement on the bed (mm).
+nlohmann::ordered_json plan_summary_json(const PrintPlan& plan, const PrinterProfile& printer);
+
+// The per-layer table, travel, timings, placement, print time and filament, on stdout.
+void print_plan_summary(const PrintPlan& plan, const PrinterProfile& printer);
+
+}  // namespace flatmorph::cli

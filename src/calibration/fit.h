@@ -1,0 +1,64 @@
+// From measured samples to a material: the ratios of each set (mean and standard deviation, as the
+// error bars of Shrink & Morph Fig. 8), the sets ranked by contraction, the material file of the
+// chosen set, the thickness curve of a thickness-ramp print (SCF 2020 §6: a monotone polynomial of
+// degree at most 4), and the Fig.-8-like plot. Lengths in mm, curvatures in 1/mm.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "calibration/measurements.h"
+#include "material/material.h"
+#include "material/thickness_curve.h"
+
+namespace flatmorph {
+
+struct MeanStd {
+  double mean = 0;
+  double std = 0;  // sample standard deviation (n - 1); 0 for one sample
+};
+
+struct SetFit {
+  int set = 0;
+  double nozzle_temperature = 0;  // degrees C
+  double layer_height = 0;        // mm
+  int layers = 0;
+  double thickness = 0;         // mm, the mean printed thickness of the samples
+  int samples = 0;              // measured (skipped ones left out)
+  bool thickness_ramp = false;  // from a thickness-ramp sheet
+  MeanStd lambda1, lambda2, lambda3, contraction_pct;
+  std::optional<MeanStd> curvature, delta_lambda1;  // when every sample has a curvature
+};
+
+// Per set, in the order of the sheet. Sets with no measured sample are left out.
+std::vector<SetFit> fit_sets(const MeasurementSheet& sheet);
+
+// Best first: the highest mean contraction (Shrink & Morph §4.1 keeps the set that shrinks most),
+// then the smaller spread, then the smaller set id.
+void rank_sets(std::vector<SetFit>& sets);
+
+// `base` (the material the samples were printed with) with the set's ratios, Delta lambda1 (when
+// measured; otherwise base's), layer height and nozzle temperature. Throws UserError(kFormat) when
+// a ratio lies outside what a material file accepts.
+Material fitted_material(const Material& base, const SetFit& set, const std::string& name,
+                         const std::string& description);
+
+// The polynomial lambda1(h) of degree at most `max_degree` (<= 4) fitting the samples of a
+// thickness-ramp sheet by least squares: the highest degree that the distinct layer heights
+// support and that is strictly monotone on their range. Throws UserError(kFormat) with fewer than
+// two distinct layer heights, or when lambda1 does not change with the layer height.
+ThicknessCurve fit_thickness_curve(const MeasurementSheet& sheet, int max_degree = 4);
+
+// The same from plain data: layer heights (mm) and lambda1 per sample.
+ThicknessCurve fit_thickness_curve(const std::vector<double>& layer_heights,
+                                   const std::vector<double>& lambda1, int layers,
+                                   double nozzle_temperature, int max_degree = 4);
+
+// Contraction (%) versus layer height (mm), one curve per nozzle temperature with error bars of
+// one standard deviation, like Shrink & Morph Fig. 8; with `curve`, its contraction 100 (1 -
+// lambda1(h)) over its range, dashed. SVG text.
+std::string contraction_plot_svg(const std::vector<SetFit>& sets,
+                                 const std::optional<ThicknessCurve>& curve);
+
+}  // namespace flatmorph

@@ -1,0 +1,39 @@
+// How the shrink ratio along the path depends on the layer height, for the methods that vary the
+// layer thickness to vary the shrinkage (SCF 2020 §6 and Fig. 2, Geodesy §3): a polynomial
+// lambda1(h) of degree at most 4, monotone on the range of layer heights it was calibrated on, and
+// its inverse (wanted shrinkage -> layer height). Outside that range neither is defined: both
+// refuse with a UserError. Layer heights in mm; lambda1 = length after heating / printed length;
+// shrinkage = 1 - lambda1 (0.42 for the paper's PLA).
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace flatmorph {
+
+struct ThicknessCurve {
+  // lambda1(h) = sum_i lambda1_coefficients[i] * h^i, h in mm (1 to 5 coefficients).
+  std::vector<double> lambda1_coefficients;
+  double min_layer_height = 0;    // mm, the calibrated range
+  double max_layer_height = 0;    // mm
+  int layers = 6;                 // layers of the calibration samples (SCF 2020 prints 6)
+  double nozzle_temperature = 0;  // degrees C the samples were printed at (0: not recorded)
+};
+
+// Empty when `curve` is usable (1 to 5 finite coefficients, 0 < min < max, lambda1 in (0, 2] and
+// strictly monotone on [min, max]); otherwise the first problem, as a sentence.
+std::string thickness_curve_problem(const ThicknessCurve& curve);
+
+// lambda1 at layer height `h` (mm). Throws UserError(kInfeasible) when h lies outside the
+// calibrated range.
+double lambda1_at_layer_height(const ThicknessCurve& curve, double h);
+
+// The layer height (mm) at which the material shrinks to `lambda1` along the path: the inverse of
+// lambda1_at_layer_height, by bisection on the calibrated range (the curve is monotone there).
+// Throws UserError(kInfeasible) naming the reachable range when `lambda1` is outside it.
+double layer_height_for_lambda1(const ThicknessCurve& curve, double lambda1);
+
+// The same for a wanted shrinkage s = 1 - lambda1 (a fraction: 0.3 for 30 %).
+double layer_height_for_shrinkage(const ThicknessCurve& curve, double shrinkage);
+
+}  // namespace flatmorph

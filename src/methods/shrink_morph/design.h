@@ -1,0 +1,82 @@
+// The Shrink & Morph design pipeline as one library call (paper §3.2): prepare the target (repair,
+// disk check, Loop subdivision), flatten it (plate and theta1, §3.2.1), simulate the plate printed
+// with theta2 = 0 from the target, optimize theta2 (§3.2.2), and measure each stage (Table 1's
+// columns). The `design` command only parses options, calls this and writes the files.
+#pragma once
+
+#include <Eigen/Core>
+#include <functional>
+#include <string>
+
+#include "common/progress.h"
+#include "material/material.h"
+#include "mesh/mesh.h"
+#include "methods/shrink_morph/flatten.h"
+#include "methods/shrink_morph/optimize_theta2.h"
+#include "simulate/distance.h"
+
+namespace flatmorph {
+
+enum class PrintedSide {
+  kAutomatic,   // the side whose natural bending agrees with the target (printed_side_agreement)
+  kNormalUp,    // the side the target's normals point to on top
+  kNormalDown,  // ... on the bed (flatten.h's `flip`)
+};
+
+struct DesignOptions {
+  double width_mm = 100.0;  // the plate's largest extent, mm
+  double w_D = 0.0;         // Eq. 12 smoothing weight (dimensionless)
+  // Which side of the target is printed on top: chosen by printed_side_agreement when automatic.
+  PrintedSide side = PrintedSide::kAutomatic;
+  int faces = 10000;  // Loop-subdivide the target until it has at least this many faces
+  int layers = 10;    // printed layers of material.layer_height mm: h = layers * height
+  Material material;
+  OptimizeTheta2Options optimize;  // w_M, w_L, stopping
+  // Stages "prepare", "flatten", "choose side", "simulate", "optimize theta2"; may be empty.
+  ProgressCallback progress;
+};
+
+// Table 1's columns and the rest of what a run reports. Distances in % of the target's bounding-box
+// diagonal, times in seconds of wall clock.
+struct DesignMetrics {
+  int faces = 0;
+  int vertices = 0;
+  double t_prepare_s = 0;
+  double t_param_s = 0;  // flattening
+  double t_sim_s = 0;    // the theta2 = 0 simulation
+  double t_optim_s = 0;  // theta2 optimization
+  double t_traj_s = 0;   // trajectories (not part of the pipeline yet)
+  double dist_to_sim_avg_pct = 0, dist_to_sim_max_pct = 0;
+  double dist_to_optim_avg_pct = 0, dist_to_optim_max_pct = 0;
+  double theta2_max_abs_rad = 0;
+  double theta2_dirichlet = 0;  // θ2ᵀ L θ2 on the target (dimensionless)
+  int optim_iterations = 0;
+  bool optim_converged = false;
+};
+
+struct Design {
+  FlatPlate flat;             // target (scaled, maybe flipped), plate, theta1
+  Eigen::VectorXd theta2;     // per vertex, rad
+  Eigen::MatrixXd simulated;  // #V x 3 mm: equilibrium with theta2 = 0, started from the target
+  Eigen::MatrixXd optimized;  // #V x 3 mm: equilibrium with the optimized theta2
+  ShapeDistance dist_to_sim, dist_to_optim;
+  Theta2Result optimization;
+  bool flipped = false;       // the target's normal side is on the bed
+  double side_agreement = 0;  // printed_side_agreement of the chosen side
+  DesignMetrics metrics;
+};
+
+// How well the bending a plate has with theta2 = 0 agrees with the target's curvature: the
+// area-weighted cosine Σ A ⟨b, b̄⟩ / √(Σ A |b|² · Σ A |b̄|²) between the target's second fundamental
+// form b pulled back to the plate and the rest one b̄ (Eq. 7: the top shrinks more, so the plate
+// curls along its print direction toward its top). In [−1, 1]; negative means the other side
+// should be on top (the plate would curl the wrong way, and theta2 alone cannot undo that).
+double printed_side_agreement(const FlatPlate& flat, const Material& material,
+                              double printed_thickness_mm);
+
+// Runs the pipeline on a target surface (any units; the plate is options.width_mm wide). `source`
+// names the input in error messages. Throws UserError for bad options or a target that is not a
+// disk.
+Design design_shrink_morph(Mesh target, const std::string& source, const DesignOptions& options);
+
+}  // namespace flatmorph

@@ -1,0 +1,384 @@
+#include "methods/shrink_morph/optimize_theta2.h"
+
+#include <fmt/core.h>
+
+#include <Eigen/CholmodSupport>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+#include "common/error.h"
+#include "mesh/operators.h"
+#include "numerics/newton.h"
+#include "plate/laminate.h"
+#include "simulate/plate_energy.h"
+#include "simulate/rigid_frame.h"
+
+namespace flatmorph {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+// Everything that stays fixed while theta2 changes, in the frame of the target's central face
+// (first vertex at the origin, first edge along +x, face in the xy plane), where the 3-2-1
+// constraint fixes coordinates that are exactly zero.
+class Theta2Solver {
+ public:
+  Theta2Solver(const Theta2Problem& problem, const OptimizeTheta2Options& options)
+      : options_(options) {
+    const int nv = static_cast<int>(problem.plate.rows());
+    const int nf = static_cast<int>(problem.F.rows());
+    if (problem.target.rows() != nv || problem.target.cols() != 3 || problem.theta1.size() != nf) {
+      throw UserError(
+          ErrorCategory::kOption,
+          fmt::format("theta2 optimization: the target has {} x {} coordinates and "
+                      "theta1 {} values for a plate of {} vertices and {} faces: give "
+                      "one 3D position per vertex and one theta1 per face",
+                      problem.target.rows(), problem.target.cols(), problem.theta1.size(), nv, nf));
+    }
+    if (!(options.w_M >= 0) || !(options.w_L >= 0)) {
+      throw UserError(ErrorCategory::kOption,
+                      "theta2 optimization: w_M and w_L must be non-negative");
+    }
+    nv_ = nv;
+    // Rest forms at theta2 = 0 and the direction G_f = ∂b̄_f/∂θ̄2 (b̄ is linear in θ2).
+    const RestForms zero = shrink_morph_rest_forms(problem.theta1, Eigen::VectorXd::Zero(nf),
+                                                   problem.material, problem.printed_thickness);
+    const RestForms one = shrink_morph_rest_forms(problem.theta1, Eigen::VectorXd::Ones(nf),
+                                                  problem.material, problem.printed_thickness);
+    b_bar_zero_ = zero.rest_second_fundamental_form;
+    directions_.resize(nf);
+    for (int f = 0; f < nf; ++f) {
+      directions_[f] = one.rest_second_fundamental_form[f] - zero.rest_second_fundamental_form[f];
+    }
+    const Stiffness stiffness = stiffness_of(problem.material);
+    energy_ = make_plate_energy(problem.plate, problem.F, zero, stiffness);
+    newton_tolerance_ = options.forward.relative_tolerance *
+                        unit_strain_energy(problem.plate, problem.F, zero.thickness, stiffness);
+    frame_ = central_face_frame(problem.plate, problem.F, problem.target, "the target");
+    target_ = flatmorph::to_frame(frame_, problem.target);
+
+    // Normalization (docs/design.md): distance in units of 0.3 % of the bounding-box diagonal,
+    // averaged over the target's area; the mass term averaged over the area.
+    mass_ = lumped_mass(problem.target, problem.F);
+    area_ = mass_.sum();
+    const double diagonal =
+        (problem.target.colwise().maxCoeff() - problem.target.colwise().minCoeff()).norm();
+    const double length = 0.003 * diagonal;
+    distance_weight_ = 1.0 / (area_ * length * length);
+    laplacian_ = cotan_laplacian(problem.target, problem.F);
+
+    std::vector<Eigen::Triplet<double>> triplets;
+    for (int f = 0; f < nf; ++f) {
+      for (int k = 0; k < 3; ++k) triplets.emplace_back(f, problem.F(f, k), 1.0 / 3);
+    }
+    face_average_.resize(nf, nv);
+    face_average_.setFromTriplets(triplets.begin(), triplets.end());
+
+    is_fixed_.assign(3 * nv, false);
+    for (int i : frame_.fixed_variables) is_fixed_[i] = true;
+    const Eigen::SparseMatrix<double>& pat = energy_.hessian_pattern;
+    for (int col = 0; col < pat.outerSize(); ++col) {
+      for (int k = pat.outerIndexPtr()[col]; k < pat.outerIndexPtr()[col + 1]; ++k) {
+        const int row = pat.innerIndexPtr()[k];
+        if (is_fixed_[row] || is_fixed_[col]) fixed_entries_.push_back({k, row == col});
+      }
+    }
+    solver_.cholmod().print = 0;
+  }
+
+  Eigen::VectorXd to_frame(const Eigen::MatrixXd& V) const {
+    return flatmorph::to_frame(frame_, V);
+  }
+  Eigen::MatrixXd from_frame(const Eigen::VectorXd& x) const {
+    return flatmorph::from_frame(frame_, x);
+  }
+
+  const Eigen::VectorXd& target() const { return target_; }
+
+  // The equilibrium for theta2 (per vertex) from `start` (in the frame).
+  NewtonResult forward(const Eigen::VectorXd& theta2, Eigen::VectorXd start,
+                       int max_iterations = -1, double tolerance_factor = 1.0) {
+    const Eigen::VectorXd face_theta2 = face_average_ * theta2;
+    std::vector<Eigen::Matrix2d> b_bar(b_bar_zero_.size());
+    for (size_t f = 0; f < b_bar.size(); ++f) {
+      b_bar[f] = b_bar_zero_[f] + face_theta2(f) * directions_[f];
+    }
+    set_rest_second_fundamental_forms(energy_, b_bar);
+    for (int i : frame_.fixed_variables) start(i) = 0;
+    NewtonProblem newton;
+    newton.num_variables = 3 * nv_;
+    newton.evaluate = [this](const Eigen::VectorXd& x, Eigen::VectorXd* g,
+                             Eigen::SparseMatrix<double>* h, bool project) {
+      return evaluate_plate_energy(energy_, x, g, h, project);
+    };
+    newton.fixed_variables = frame_.fixed_variables;
+    NewtonOptions newton_options;
+    newton_options.max_iterations =
+        max_iterations >= 0 ? max_iterations : options_.forward.max_iterations;
+    newton_options.tolerance = newton_tolerance_ * tolerance_factor;
+    const auto t0 = Clock::now();
+    NewtonResult r = newton_minimize(newton, start, newton_options);
+    forward_seconds_ += seconds_since(t0);
+    return r;
+  }
+
+  // The three terms of E at the equilibrium x.
+  Eigen::Vector3d objective_terms(const Eigen::VectorXd& x, const Eigen::VectorXd& theta2) const {
+    double distance = 0;
+    for (int v = 0; v < nv_; ++v) {
+      distance += mass_(v) * (x.segment<3>(3 * v) - target_.segment<3>(3 * v)).squaredNorm();
+    }
+    return {distance_weight_ * distance,
+            options_.w_M * theta2.dot(mass_.cwiseProduct(theta2)) / area_,
+            options_.w_L * theta2.dot(laplacian_ * theta2)};
+  }
+
+  // Factorizes H at x (the energy's current theta2) with the fixed variables decoupled (unit
+  // rows/columns), and the sensitivity right-hand side J = ∂²W/∂x∂θ2 (3V x V, fixed rows zero).
+  bool linearize(const Eigen::VectorXd& x) {
+    Eigen::VectorXd gradient;
+    evaluate_plate_energy(energy_, x, &gradient, &hessian_, false);
+    double* values = hessian_.valuePtr();
+    for (const auto& [k, diagonal] : fixed_entries_) values[k] = diagonal ? 1.0 : 0.0;
+    if (!analyzed_) {
+      solver_.analyzePattern(hessian_);
+      analyzed_ = true;
+    }
+    solver_.setShift(0.0);
+    solver_.factorize(hessian_);
+    if (solver_.info() != Eigen::Success) {
+      ++shifted_factorizations_;
+      // A stable equilibrium has a positive definite H; near a buckling point it is nearly
+      // singular, so shift by growing multiples of its largest diagonal entry.
+      const double scale = hessian_.diagonal().cwiseAbs().maxCoeff();
+      for (double s = 1e-12; solver_.info() != Eigen::Success && s <= 1e-4; s *= 100) {
+        solver_.setShift(s * scale);
+        solver_.factorize(hessian_);
+      }
+      if (solver_.info() != Eigen::Success) return false;
+    }
+    Eigen::SparseMatrix<double> mixed =
+        rest_curvature_mixed_derivative(energy_, x, directions_) * face_average_;
+    mixed.prune([this](Eigen::Index row, Eigen::Index, double) { return !is_fixed_[row]; });
+    sensitivity_rhs_ = mixed;
+    sensitivity_rhs_t_ = mixed.transpose();
+    return true;
+  }
+
+  Eigen::VectorXd solve(const Eigen::VectorXd& b) const { return solver_.solve(b); }
+
+  // dE/dx at x (zero at the fixed variables).
+  Eigen::VectorXd distance_gradient(const Eigen::VectorXd& x) const {
+    Eigen::VectorXd r(3 * nv_);
+    for (int v = 0; v < nv_; ++v) {
+      r.segment<3>(3 * v) =
+          2 * distance_weight_ * mass_(v) * (x.segment<3>(3 * v) - target_.segment<3>(3 * v));
+    }
+    for (int i : frame_.fixed_variables) r(i) = 0;
+    return r;
+  }
+
+  // Eq. 14 (after linearize at the equilibrium x).
+  Eigen::VectorXd gradient(const Eigen::VectorXd& x, const Eigen::VectorXd& theta2) const {
+    const Eigen::VectorXd adjoint = solve(distance_gradient(x));
+    return -(sensitivity_rhs_t_ * adjoint) + regularizer_product(theta2);
+  }
+
+  // (2 w_M M / A + 2 w_L L) v.
+  Eigen::VectorXd regularizer_product(const Eigen::VectorXd& v) const {
+    return 2 * options_.w_M / area_ * mass_.cwiseProduct(v) + 2 * options_.w_L * (laplacian_ * v);
+  }
+
+  // S v = dx/dθ2 · v = −H⁻¹ J v.
+  Eigen::VectorXd sensitivity(const Eigen::VectorXd& v) const {
+    return -solve(sensitivity_rhs_ * v);
+  }
+
+  // (Sᵀ 2D S + 2 w_M M / A + 2 w_L L) v, D the distance term's diagonal.
+  Eigen::VectorXd gauss_newton_product(const Eigen::VectorXd& v) const {
+    Eigen::VectorXd dx = sensitivity(v);
+    for (int u = 0; u < nv_; ++u) dx.segment<3>(3 * u) *= 2 * distance_weight_ * mass_(u);
+    for (int i : frame_.fixed_variables) dx(i) = 0;
+    return -(sensitivity_rhs_t_ * solve(dx)) + regularizer_product(v);
+  }
+
+  double forward_seconds() const { return forward_seconds_; }
+  int shifted_factorizations() const { return shifted_factorizations_; }
+
+ private:
+  const OptimizeTheta2Options& options_;
+  int nv_ = 0;
+  PlateEnergy energy_;
+  std::vector<Eigen::Matrix2d> b_bar_zero_, directions_;
+  double newton_tolerance_ = 0;
+  RigidFrame frame_;
+  std::vector<bool> is_fixed_;
+  std::vector<std::pair<int, bool>> fixed_entries_;  // Hessian nonzeros in a fixed row/column
+  Eigen::VectorXd target_, mass_;
+  double area_ = 0, distance_weight_ = 0;
+  Eigen::SparseMatrix<double> laplacian_, face_average_;
+  Eigen::SparseMatrix<double> hessian_, sensitivity_rhs_, sensitivity_rhs_t_;
+  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> solver_;
+  bool analyzed_ = false;
+  double forward_seconds_ = 0;
+  int shifted_factorizations_ = 0;
+};
+
+bool forward_ok(const NewtonResult& r) {
+  return r.status == NewtonStatus::kConverged || r.status == NewtonStatus::kLineSearchFailed;
+}
+
+// Conjugate gradients on the SPD Gauss–Newton system A d = b, from d = 0 (so every iterate is a
+// descent direction for E). Returns the iterations taken.
+template <typename Product>
+int conjugate_gradient(const Product& product, const Eigen::VectorXd& b, double tolerance,
+                       int max_iterations, Eigen::VectorXd& d) {
+  d.setZero(b.size());
+  Eigen::VectorXd r = b, p = b;
+  double rr = r.squaredNorm();
+  const double stop = tolerance * tolerance * rr;
+  int it = 0;
+  for (; it < max_iterations && rr > stop; ++it) {
+    const Eigen::VectorXd ap = product(p);
+    const double pap = p.dot(ap);
+    if (!(pap > 0)) break;
+    const double alpha = rr / pap;
+    d += alpha * p;
+    r -= alpha * ap;
+    const double rr_new = r.squaredNorm();
+    p = r + (rr_new / rr) * p;
+    rr = rr_new;
+  }
+  return it;
+}
+
+}  // namespace
+
+Theta2Evaluation evaluate_theta2_objective(const Theta2Problem& problem,
+                                           const Eigen::VectorXd& theta2,
+                                           const Eigen::MatrixXd& start,
+                                           const OptimizeTheta2Options& options) {
+  Theta2Solver solver(problem, options);
+  const NewtonResult r = solver.forward(theta2, solver.to_frame(start));
+  Theta2Evaluation out;
+  out.forward_converged = forward_ok(r);
+  out.objective = solver.objective_terms(r.x, theta2).sum();
+  out.V = solver.from_frame(r.x);
+  if (solver.linearize(r.x)) out.gradient = solver.gradient(r.x, theta2);
+  return out;
+}
+
+Theta2Result optimize_theta2(const Theta2Problem& problem, const Eigen::VectorXd& theta2_start,
+                             const OptimizeTheta2Options& options) {
+  const auto t0 = Clock::now();
+  Theta2Solver solver(problem, options);
+  const int nv = static_cast<int>(problem.plate.rows());
+  Eigen::VectorXd theta2 =
+      theta2_start.size() == 0 ? Eigen::VectorXd::Zero(nv) : Eigen::VectorXd(theta2_start);
+  if (theta2.size() != nv) {
+    throw UserError(ErrorCategory::kOption,
+                    fmt::format("theta2 start has {} values for {} vertices: give one per vertex",
+                                theta2.size(), nv));
+  }
+  Theta2Result out;
+  const NewtonResult initial = solver.forward(
+      theta2, problem.start.size() ? solver.to_frame(problem.start) : solver.target());
+  out.initial_forward_converged = forward_ok(initial);
+  Eigen::VectorXd x = initial.x;
+  out.initial_V = solver.from_frame(x);
+  out.initial_seconds = seconds_since(t0);
+  Eigen::Vector3d terms = solver.objective_terms(x, theta2);
+  double objective = terms.sum();
+  out.initial_objective = objective;
+  out.stop_reason = "iteration limit";
+  double trust_radius = options.max_step_rad;
+  for (int iteration = 0; iteration < options.max_iterations; ++iteration) {
+    Theta2Iteration record;
+    record.iteration = iteration;
+    record.objective = objective;
+    record.distance_term = terms(0);
+    const int shifted_before = solver.shifted_factorizations();
+    const bool linearized = solver.linearize(x);
+    record.shifted_hessian = solver.shifted_factorizations() > shifted_before;
+    if (!linearized) {
+      out.stop_reason = "the equilibrium's Hessian could not be factorized";
+      break;
+    }
+    const Eigen::VectorXd g = solver.gradient(x, theta2);
+    const auto t_cg = Clock::now();
+    Eigen::VectorXd direction;
+    record.cg_iterations =
+        conjugate_gradient([&](const Eigen::VectorXd& v) { return solver.gauss_newton_product(v); },
+                           -g, options.cg_tolerance, options.max_cg_iterations, direction);
+    const Eigen::VectorXd dx = solver.sensitivity(direction);
+    out.cg_seconds += seconds_since(t_cg);
+    const double slope = g.dot(direction);
+    if (!(slope < 0)) {
+      out.converged = true;
+      out.stop_reason = "no descent direction (stationary point)";
+      out.history.push_back(record);
+      break;
+    }
+    // A step that turns some θ2 by more than max_step_rad leaves the range where the linear
+    // prediction warm-starts the forward solve well (soft modes make S Δθ huge): shorten it.
+    // The length accepted last time is remembered (a trust radius), so that the trials it took
+    // to find it are not repeated at every iteration.
+    const double direction_max = direction.cwiseAbs().maxCoeff();
+    double step = std::min(1.0, trust_radius / direction_max);
+    bool accepted = false;
+    for (int k = 0; k < options.max_line_search_steps; ++k, step *= 0.5) {
+      const Eigen::VectorXd trial_theta2 = theta2 + step * direction;
+      // Warm start at the linear prediction x + s S Δθ.
+      const NewtonResult trial =
+          solver.forward(trial_theta2, x + step * dx, options.max_trial_forward_iterations,
+                         options.trial_tolerance_factor);
+      ++record.line_search_trials;
+      record.forward_iterations += trial.iterations;
+      if (!forward_ok(trial)) continue;
+      const Eigen::Vector3d trial_terms = solver.objective_terms(trial.x, trial_theta2);
+      const double trial_objective = trial_terms.sum();
+      if (trial_objective <= objective + options.armijo_constant * step * slope) {
+        accepted = true;
+        theta2 = trial_theta2;
+        x = trial.x;
+        terms = trial_terms;
+        trust_radius = std::min(options.max_step_rad, (k == 0 ? 2.0 : 1.0) * step * direction_max);
+        break;
+      }
+    }
+    // The accepted trial was the last forward solve, so the energy holds its b̄ for the next
+    // linearization.
+    record.step = accepted ? step : 0;
+    record.elapsed_seconds = seconds_since(t0);
+    out.history.push_back(record);
+    if (options.progress) options.progress(record);
+    if (!accepted) {
+      out.stop_reason = "line search failed";
+      break;
+    }
+    ++out.iterations;
+    const double decrease = record.objective - terms.sum();
+    objective = terms.sum();
+    if (decrease < options.relative_decrease * record.objective) {
+      out.converged = true;
+      out.stop_reason = "relative decrease below tolerance";
+      break;
+    }
+  }
+  out.theta2 = theta2;
+  out.V = solver.from_frame(x);
+  out.objective = objective;
+  out.distance_term = terms(0);
+  out.forward_seconds = solver.forward_seconds();
+  out.shifted_factorizations = solver.shifted_factorizations();
+  out.seconds = seconds_since(t0);
+  return out;
+}
+
+}  // namespace flatmorph

@@ -1,0 +1,113 @@
+// Shrink & Morph §3.2.2: the through-thickness variation theta2 of the print direction whose
+// simulated equilibrium comes closest to the target, with the plate and theta1 fixed.
+//
+// Objective (Eq. 13), normalized so that the weights do not depend on the part's size or the mesh
+// resolution (docs/design.md):
+//   E(θ2) = Σ_v m_v |x_v(θ2) − x_T,v|² / (A ℓ²) + w_M Σ_v m_v θ2_v² / A + w_L θ2ᵀ L θ2
+// with m the lumped mass of the target (mm²), A its total area, ℓ = 0.3 % of the target's
+// bounding-box diagonal (so the first term is the mean squared distance in units of 0.3 % of the
+// diagonal), L the cotan Laplacian of the target (dimensionless) and x(θ2) the equilibrium of the
+// plate energy with b̄ from θ1 and the face-averaged θ2 (Eq. 7, 17), registered to the target by
+// the 3-2-1 constraint of simulate.h. The gradient is the adjoint one (Eq. 14); steps are
+// Gauss–Newton with exact sensitivities, S = dx/dθ2 = −H⁻¹ H_xθ, solved matrix-free by conjugate
+// gradients on (Sᵀ 2D S + 2 w_M M + 2 w_L L) Δθ = −g reusing the Cholesky factor of H.
+#pragma once
+
+#include <Eigen/Core>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "material/material.h"
+#include "simulate/simulate.h"
+
+namespace flatmorph {
+
+// The plate and what it should become.
+struct Theta2Problem {
+  Eigen::MatrixXd plate;   // #V x 2, mm, counter-clockwise faces
+  Eigen::MatrixXi F;       // #F x 3
+  Eigen::MatrixXd target;  // #V x 3, mm, same vertices as the plate
+  Eigen::VectorXd theta1;  // per face, rad
+  Material material;
+  double printed_thickness = 0.8;  // h, mm (the rest forms use t = λ3 h)
+  // Where the first equilibrium is searched from (#V x 3, mm); empty: the target. An equilibrium
+  // already found (e.g. while choosing the printed side) makes the first solve nearly free.
+  Eigen::MatrixXd start;
+};
+
+struct Theta2Iteration {
+  int iteration = 0;
+  double objective = 0;        // E at the start of the iteration
+  double distance_term = 0;    // its first term
+  double step = 0;             // accepted line-search step (0 when none)
+  int cg_iterations = 0;       // for the Gauss–Newton step
+  int forward_iterations = 0;  // Newton iterations of all forward solves of the line search
+  int line_search_trials = 0;
+  bool shifted_hessian = false;  // H at the equilibrium needed a diagonal shift to factorize
+  double elapsed_seconds = 0;    // since the optimization started
+};
+
+struct OptimizeTheta2Options {
+  double w_M = 0.01;  // weight of the mass term (dimensionless)
+  double w_L = 0.01;  // weight of the Laplacian term (dimensionless)
+  int max_iterations = 100;
+  // Stop when an iteration lowers E by less than this fraction of E.
+  double relative_decrease = 1e-4;
+  int max_cg_iterations = 200;
+  double cg_tolerance = 1e-2;  // relative residual of the Gauss–Newton system
+  double armijo_constant = 1e-4;
+  int max_line_search_steps = 20;  // Armijo backtracking by halves
+  double max_step_rad = 0.1;       // the line search starts with max |Δθ2| at most this
+  // Newton iterations allowed to a line-search trial's forward solve (it starts at the linear
+  // prediction, so a trial that needs more is a step too long, e.g. a snap-through): rejected.
+  int max_trial_forward_iterations = 4;
+  // The line-search trials' Newton tolerance is this times the one of `forward` (the first
+  // equilibrium): on large plates the tight one is below round-off and Newton crawls to the cap.
+  double trial_tolerance_factor = 1e3;
+  SimulationOptions forward;  // the equilibrium solves
+  // Called after every iteration (progress lines); may be empty.
+  std::function<void(const Theta2Iteration&)> progress;
+};
+
+struct Theta2Result {
+  Eigen::VectorXd theta2;     // per vertex, rad
+  Eigen::MatrixXd V;          // #V x 3, mm: the equilibrium for theta2, registered to the target
+  Eigen::MatrixXd initial_V;  // the equilibrium for the starting theta2
+  double objective = 0;
+  double initial_objective = 0;
+  double distance_term = 0;
+  int iterations = 0;
+  bool converged = false;
+  std::string stop_reason;
+  std::vector<Theta2Iteration> history;
+  double seconds = 0;
+  double initial_seconds = 0;  // the first equilibrium (setup included)
+  double cg_seconds = 0;       // in the Gauss–Newton solves
+  double forward_seconds = 0;
+  // Diagnostics: whether the first equilibrium converged, and how many factorizations of H needed a
+  // diagonal shift (H not positive definite: the equilibrium is not a stable minimum, and the
+  // sensitivities are approximate).
+  bool initial_forward_converged = false;
+  int shifted_factorizations = 0;
+};
+
+// Minimizes E from theta2_start (per vertex, rad; empty means zeros), the first equilibrium solved
+// from the target. Throws UserError on inconsistent sizes or a bad plate.
+Theta2Result optimize_theta2(const Theta2Problem& problem, const Eigen::VectorXd& theta2_start,
+                             const OptimizeTheta2Options& options = {});
+
+// E and its adjoint gradient (Eq. 14) at theta2 (per vertex, rad), the equilibrium solved from
+// `start` (#V x 3, mm; e.g. the target). For tests and diagnostics.
+struct Theta2Evaluation {
+  double objective = 0;
+  Eigen::VectorXd gradient;
+  Eigen::MatrixXd V;  // the equilibrium, #V x 3, mm
+  bool forward_converged = false;
+};
+Theta2Evaluation evaluate_theta2_objective(const Theta2Problem& problem,
+                                           const Eigen::VectorXd& theta2,
+                                           const Eigen::MatrixXd& start,
+                                           const OptimizeTheta2Options& options = {});
+
+}  // namespace flatmorph

@@ -1,0 +1,54 @@
+#include "report/run_folder.h"
+
+#include <fmt/core.h>
+
+#include <fstream>
+
+#include "common/error.h"
+
+namespace flatmorph {
+
+RunFolder read_run_folder(const std::filesystem::path& dir) {
+  std::error_code ec;
+  if (!std::filesystem::is_directory(dir, ec)) {
+    throw UserError(ErrorCategory::kFile,
+                    fmt::format("{}: not a folder; give the output folder (-o DIR) of flatmorph "
+                                "design",
+                                dir.string()));
+  }
+  RunFolder run;
+  run.dir = dir;
+  auto exists = [&](const char* name) {
+    const bool found = std::filesystem::is_regular_file(dir / name, ec);
+    if (!found) run.missing.emplace_back(name);
+    return found;
+  };
+  if (exists("flat.ply")) run.flat = read_plate_file(dir / "flat.ply");
+  if (exists("target.ply")) run.target = read_mesh(dir / "target.ply");
+  if (exists("simulated.ply")) run.simulated = read_mesh(dir / "simulated.ply");
+  if (exists("design.json")) {
+    std::ifstream in(dir / "design.json");
+    if (!in) {
+      throw UserError(ErrorCategory::kFile, fmt::format("{}: cannot read the file; check its "
+                                                        "permissions",
+                                                        (dir / "design.json").string()));
+    }
+    run.design = nlohmann::ordered_json::parse(in, nullptr, false);
+    if (run.design.is_discarded() || !run.design.is_object()) {
+      throw UserError(ErrorCategory::kFormat,
+                      fmt::format("{}: not a JSON object; run flatmorph design again to rewrite it",
+                                  (dir / "design.json").string()));
+    }
+  }
+  if (exists("plate.gcode")) run.gcode = read_gcode_paths(dir / "plate.gcode");
+  if (run.missing.size() == 5) {
+    throw UserError(ErrorCategory::kFile,
+                    fmt::format("{}: no flat.ply, target.ply, simulated.ply, design.json or "
+                                "plate.gcode here; give the output folder (-o DIR) of flatmorph "
+                                "design",
+                                dir.string()));
+  }
+  return run;
+}
+
+}  // namespace flatmorph

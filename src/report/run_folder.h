@@ -1,0 +1,33 @@
+// What a design run left in its folder (flatmorph design -o DIR, or flatten / simulate / toolpaths
+// into one folder), read for the report and the viewer. Every file is optional except that at
+// least one must be there; what is missing is listed so the report can say so.
+#pragma once
+
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "mesh/io.h"
+#include "plate/plate_file.h"
+#include "report/gcode_paths.h"
+
+namespace flatmorph {
+
+struct RunFolder {
+  std::filesystem::path dir;
+  std::optional<PlateFile> flat;      // flat.ply: plate, theta1 per face, theta2 per vertex
+  std::optional<MeshFile> target;     // target.ply
+  std::optional<MeshFile> simulated;  // simulated.ply, per-vertex deviation_mm if computed
+  nlohmann::ordered_json design;      // design.json (null when absent)
+  std::optional<GcodePaths> gcode;    // plate.gcode
+  std::vector<std::string> missing;   // the file names that were not there
+};
+
+// Reads DIR/flat.ply, target.ply, simulated.ply, design.json and plate.gcode, whichever exist.
+// Throws UserError(kFile) when DIR is not a folder or holds none of them, and the readers' errors
+// (naming the file) when one is malformed.
+RunFolder read_run_folder(const std::filesystem::path& dir);
+
+}  // namespace flatmorph

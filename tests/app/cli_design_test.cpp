@@ -1,0 +1,90 @@
+// `flatmorph design` end to end, as a user runs it: the files, design.json's metrics, bad options.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "mesh/io.h"
+#include "test_support.h"
+
+namespace flatmorph {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::run_cli;
+
+TEST(CliDesign, WritesThePlateTheShapesAndTheMetrics) {
+  const fs::path dir = testing::scratch_dir() / "out";
+  const auto r =
+      run_cli({"design", "--example", "dome", "--width", "60", "--faces", "1", "-o", dir.string()});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  // Progress: one plain line per report when stdout is not a terminal.
+  EXPECT_NE(r.out.find("optimize theta2: 1, objective"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("trajectories: 1/10"), std::string::npos) << r.out;
+  const MeshFile flat = read_mesh(dir / "flat.ply");
+  const MeshFile target = read_mesh(dir / "target.ply");
+  const MeshFile simulated = read_mesh(dir / "simulated.ply");
+  ASSERT_NE(flat.properties.find_face("theta1"), nullptr);
+  const Eigen::VectorXd* theta2 = flat.properties.find_vertex("theta2");
+  ASSERT_NE(theta2, nullptr);
+  EXPECT_GT(theta2->cwiseAbs().maxCoeff(), 0);
+  const Eigen::VectorXd* deviation = simulated.properties.find_vertex("deviation_mm");
+  ASSERT_NE(deviation, nullptr);
+  EXPECT_NEAR((*deviation)(0), (simulated.mesh.V.row(0) - target.mesh.V.row(0)).norm(), 1e-9);
+  EXPECT_EQ(simulated.mesh.F, target.mesh.F);
+
+  std::ifstream in(dir / "design.json");
+  const nlohmann::json j = nlohmann::json::parse(in);
+  const nlohmann::json& m = j.at("metrics");
+  for (const char* key : {"faces", "vertices", "t_prepare_s", "t_param_s", "t_optim_s", "t_traj_s",
+                          "dist_to_sim_avg_pct", "dist_to_sim_max_pct", "dist_to_optim_avg_pct",
+                          "dist_to_optim_max_pct", "theta2_max_abs_rad", "optim_iterations"}) {
+    EXPECT_TRUE(m.contains(key)) << key;
+  }
+  EXPECT_EQ(m.at("faces").get<int>(), target.mesh.num_faces());
+  EXPECT_LT(m.at("dist_to_optim_avg_pct").get<double>(), m.at("dist_to_sim_avg_pct").get<double>());
+  EXPECT_NEAR(m.at("theta2_max_abs_rad").get<double>(), theta2->cwiseAbs().maxCoeff(), 1e-12);
+  EXPECT_EQ(j.at("width_mm").get<double>(), 60);
+  EXPECT_TRUE(j.at("normal_side_down").get<bool>());  // a dome prints concave side up
+  EXPECT_GT(m.at("print_time_s").get<double>(), 0);
+
+  // The print files of issue 6: G-code and the layer previews.
+  EXPECT_TRUE(fs::exists(dir / "plate.gcode"));
+  EXPECT_TRUE(fs::exists(dir / "layers" / "layer_001.svg"));
+  EXPECT_TRUE(fs::exists(dir / "layers" / "overview.png"));
+  EXPECT_TRUE(fs::exists(dir / "report.html"));  // issue 8
+
+  // --json: design.json on stdout, no progress.
+  const fs::path dir2 = testing::scratch_dir() / "out2";
+  const auto json_run = run_cli({"design", "--example", "dome", "--width", "60", "--faces", "1",
+                                 "--no-gcode", "--json", "-o", dir2.string()});
+  ASSERT_EQ(json_run.exit_code, 0) << json_run.err;
+  const nlohmann::json summary = nlohmann::json::parse(json_run.out);
+  EXPECT_EQ(summary.at("metrics").at("faces").get<int>(), target.mesh.num_faces());
+  EXPECT_EQ(json_run.out.find("optimize theta2"), std::string::npos) << json_run.out;
+}
+
+TEST(CliDesign, BadOptionsExit2AndWriteNothing) {
+  const fs::path dir = testing::scratch_dir() / "out";
+  const std::vector<std::vector<std::string>> bad = {
+      {"design", "--example", "dome", "--width", "-5", "-o", dir.string()},
+      {"design", "--example", "dome", "--wD", "-1", "-o", dir.string()},
+      {"design", "--example", "dome", "--faces", "0", "-o", dir.string()},
+      {"design", "--example", "nosuch", "-o", dir.string()},
+      {"design", "--example", "dome", "--material", "nosuch", "-o", dir.string()},
+      {"design", (testing::scratch_dir() / "missing.obj").string(), "-o", dir.string()},
+      {"design", "--example", "dome", "--side", "left", "-o", dir.string()},
+      {"design", "--example", "dome", "--printer", "nosuch", "-o", dir.string()},
+      // 600 mm does not fit the default printer's 220 mm bed: refused before anything is written.
+      {"design", "--example", "dome", "--width", "600", "--faces", "1", "-o", dir.string()},
+  };
+  for (const auto& args : bad) {
+    const auto r = run_cli(args);
+    EXPECT_EQ(r.exit_code, 2) << args[2] << " " << args[3] << "\n" << r.err;
+    EXPECT_FALSE(r.err.empty());
+    EXPECT_FALSE(fs::exists(dir)) << args[2] << " " << args[3];
+  }
+}
+
+}  // namespace
+}  // namespace flatmorph

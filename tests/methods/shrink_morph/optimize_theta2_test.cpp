@@ -1,0 +1,142 @@
+// Tests of the theta2 inverse design (src/methods/shrink_morph/optimize_theta2.h): the mixed
+// derivative of the plate energy against finite differences of its gradient, the adjoint gradient
+// of Eq. 14 against central finite differences of the full objective (forward solves included),
+// and that the optimization lowers the distance to the target.
+#include "methods/shrink_morph/optimize_theta2.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <iostream>
+#include <random>
+
+#include "material/material.h"
+#include "methods/shrink_morph/flatten.h"
+#include "plate/laminate.h"
+#include "simulate/distance.h"
+#include "simulate/plate_energy.h"
+
+namespace flatmorph {
+namespace {
+
+// A spherical cap of radius `radius` mm over an n x n grid of the square [-1, 1]^2 * half_width.
+Mesh cap_mesh(int n, double half_width, double radius) {
+  Mesh mesh;
+  mesh.V.resize((n + 1) * (n + 1), 3);
+  for (int j = 0; j <= n; ++j) {
+    for (int i = 0; i <= n; ++i) {
+      const double x = half_width * (2.0 * i / n - 1), y = half_width * (2.0 * j / n - 1);
+      mesh.V.row(j * (n + 1) + i) << x, y, std::sqrt(radius * radius - x * x - y * y) - radius;
+    }
+  }
+  mesh.F.resize(2 * n * n, 3);
+  int f = 0;
+  for (int j = 0; j < n; ++j) {
+    for (int i = 0; i < n; ++i) {
+      const int a = j * (n + 1) + i, b = a + 1, c = a + n + 1, d = c + 1;
+      if ((i + j) % 2 == 0) {
+        mesh.F.row(f++) << a, b, d;
+        mesh.F.row(f++) << a, d, c;
+      } else {
+        mesh.F.row(f++) << a, b, c;
+        mesh.F.row(f++) << b, d, c;
+      }
+    }
+  }
+  return mesh;
+}
+
+Theta2Problem cap_problem(int n) {
+  const Mesh mesh = cap_mesh(n, 20, 60);
+  FlattenOptions options;
+  options.width_mm = 60;
+  const FlatPlate flat = flatten(mesh, options);
+  Theta2Problem problem;
+  problem.plate = flat.plate;
+  problem.F = flat.target.F;
+  problem.target = flat.target.V;
+  problem.theta1 = flat.theta1;
+  problem.material = load_material("pla-paper");
+  problem.printed_thickness = 10 * problem.material.layer_height;
+  return problem;
+}
+
+TEST(RestCurvatureMixedDerivative, MatchesFiniteDifferencesOfTheGradient) {
+  const Theta2Problem problem = cap_problem(4);
+  const int nf = static_cast<int>(problem.F.rows());
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> uniform(-0.2, 0.2);
+  Eigen::VectorXd theta2(nf);
+  for (int f = 0; f < nf; ++f) theta2(f) = uniform(rng);
+  const RestForms base =
+      shrink_morph_rest_forms(problem.theta1, theta2, problem.material, problem.printed_thickness);
+  std::vector<Eigen::Matrix2d> directions(nf);
+  for (int f = 0; f < nf; ++f) {
+    directions[f] << uniform(rng), uniform(rng), 0, uniform(rng);
+    directions[f](1, 0) = directions[f](0, 1);
+  }
+  PlateEnergy energy =
+      make_plate_energy(problem.plate, problem.F, base, stiffness_of(problem.material));
+  Eigen::VectorXd x(3 * problem.plate.rows());
+  for (int v = 0; v < problem.plate.rows(); ++v) {
+    x.segment<3>(3 * v) = problem.target.row(v).transpose();
+    x(3 * v + 2) += uniform(rng);
+  }
+  const Eigen::MatrixXd mixed = rest_curvature_mixed_derivative(energy, x, directions);
+  const double h = 1e-4;
+  for (int f : {0, nf / 2, nf - 1}) {
+    Eigen::VectorXd grad[2];
+    for (int side = 0; side < 2; ++side) {
+      std::vector<Eigen::Matrix2d> b = base.rest_second_fundamental_form;
+      b[f] += (side == 0 ? h : -h) * directions[f];
+      set_rest_second_fundamental_forms(energy, b);
+      evaluate_plate_energy(energy, x, &grad[side], nullptr, false);
+    }
+    const Eigen::VectorXd fd = (grad[0] - grad[1]) / (2 * h);
+    EXPECT_LT((fd - mixed.col(f)).norm(), 1e-6 * (1 + fd.norm())) << "face " << f;
+    EXPECT_GT(fd.norm(), 0);
+  }
+}
+
+TEST(OptimizeTheta2, AdjointGradientMatchesFiniteDifferencesOfTheObjective) {
+  const Theta2Problem problem = cap_problem(5);
+  const int nv = static_cast<int>(problem.plate.rows());
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> uniform(-0.05, 0.05);
+  Eigen::VectorXd theta2(nv);
+  for (int v = 0; v < nv; ++v) theta2(v) = uniform(rng);
+  OptimizeTheta2Options options;
+  options.forward.relative_tolerance = 1e-20;  // converge the forward solves to round-off
+  const Theta2Evaluation at = evaluate_theta2_objective(problem, theta2, problem.target, options);
+  ASSERT_TRUE(at.forward_converged);
+  ASSERT_EQ(at.gradient.size(), nv);
+  for (int trial = 0; trial < 3; ++trial) {
+    Eigen::VectorXd direction(nv);
+    for (int v = 0; v < nv; ++v) direction(v) = uniform(rng);
+    const double h = 1e-4;
+    const double plus =
+        evaluate_theta2_objective(problem, theta2 + h * direction, at.V, options).objective;
+    const double minus =
+        evaluate_theta2_objective(problem, theta2 - h * direction, at.V, options).objective;
+    const double fd = (plus - minus) / (2 * h);
+    const double adjoint = at.gradient.dot(direction);
+    EXPECT_NEAR(adjoint, fd, 1e-4 * std::abs(fd) + 1e-9) << "direction " << trial;
+    EXPECT_GT(std::abs(fd), 1e-3) << "the direction should change the objective";
+  }
+}
+
+TEST(OptimizeTheta2, LowersTheDistanceToTheTarget) {
+  const Theta2Problem problem = cap_problem(8);
+  const Theta2Result r = optimize_theta2(problem, {});
+  const ShapeDistance before = shape_distance(r.initial_V, problem.target);
+  const ShapeDistance after = shape_distance(r.V, problem.target);
+  EXPECT_LT(r.objective, r.initial_objective);
+  EXPECT_LT(after.mean_percent * 3, before.mean_percent)
+      << before.mean_percent << " -> " << after.mean_percent;
+  EXPECT_GT(r.iterations, 0);
+  std::cout << "cap: " << before.mean_percent << " -> " << after.mean_percent << " % in "
+            << r.iterations << " iterations (" << r.stop_reason << ")\n";
+}
+
+}  // namespace
+}  // namespace flatmorph

@@ -1,0 +1,93 @@
+// Issue 9, item 4 (Newton): non-convergence, NaN and an exploding energy stop the minimizer with a
+// warning that says what to change, and the best finite state found is returned.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "numerics/newton.h"
+
+namespace flatmorph {
+namespace {
+
+// A one-variable problem from the energy, its derivative and its second derivative.
+template <typename E, typename G, typename H>
+NewtonProblem scalar_problem(E energy, G grad, H hess) {
+  NewtonProblem p;
+  p.num_variables = 1;
+  p.evaluate = [=](const Eigen::VectorXd& x, Eigen::VectorXd* g, Eigen::SparseMatrix<double>* h,
+                   bool project) {
+    if (g) (*g)(0) = grad(x(0));
+    if (h) {
+      h->resize(1, 1);
+      h->insert(0, 0) = project ? std::abs(hess(x(0))) : hess(x(0));
+      h->makeCompressed();
+    }
+    return energy(x(0));
+  };
+  return p;
+}
+
+TEST(NewtonSafety, ConvergedRunsHaveNoWarning) {
+  const NewtonProblem p =
+      scalar_problem([](double x) { return (x - 2) * (x - 2); },
+                     [](double x) { return 2 * (x - 2); }, [](double) { return 2.0; });
+  const NewtonResult r = newton_minimize(p, Eigen::VectorXd::Constant(1, 7.0));
+  EXPECT_EQ(r.status, NewtonStatus::kConverged);
+  EXPECT_TRUE(r.warning.empty()) << r.warning;
+}
+
+TEST(NewtonSafety, AnEnergyUnboundedBelowStopsAsDiverged) {
+  // -x^3 falls without bound for x > 0.
+  const NewtonProblem p =
+      scalar_problem([](double x) { return -x * x * x; }, [](double x) { return -3 * x * x; },
+                     [](double x) { return -6 * x; });
+  const NewtonResult r = newton_minimize(p, Eigen::VectorXd::Constant(1, 1.0));
+  EXPECT_EQ(r.status, NewtonStatus::kDiverged) << to_string(r.status);
+  EXPECT_TRUE(r.x.allFinite());
+  EXPECT_TRUE(std::isfinite(r.energy));
+  EXPECT_LT(r.x(0), 1e9);
+  EXPECT_NE(r.warning.find("finer mesh"), std::string::npos) << r.warning;
+  EXPECT_NE(r.warning.find("exploded"), std::string::npos) << r.warning;
+}
+
+TEST(NewtonSafety, ANanGradientKeepsTheLastFiniteState) {
+  // (x - 5)^2 with a gradient that turns NaN beyond x = 4.
+  const NewtonProblem p = scalar_problem(
+      [](double x) { return (x - 5) * (x - 5); },
+      [](double x) { return x > 4 ? std::numeric_limits<double>::quiet_NaN() : 2 * (x - 5); },
+      [](double) { return 0.2; });  // a poor Hessian: the steps overshoot into the NaN region
+  const NewtonResult r = newton_minimize(p, Eigen::VectorXd::Constant(1, 0.0));
+  EXPECT_EQ(r.status, NewtonStatus::kNonFinite) << to_string(r.status);
+  EXPECT_TRUE(r.x.allFinite());
+  EXPECT_LE(r.x(0), 4.0);
+  EXPECT_NE(r.warning.find("NaN"), std::string::npos) << r.warning;
+  EXPECT_NE(r.warning.find("smaller plate"), std::string::npos) << r.warning;
+}
+
+TEST(NewtonSafety, ANanStartIsReportedNotPropagated) {
+  const NewtonProblem p = scalar_problem(
+      [](double x) { return x * x; }, [](double x) { return 2 * x; }, [](double) { return 2.0; });
+  const NewtonResult r =
+      newton_minimize(p, Eigen::VectorXd::Constant(1, std::numeric_limits<double>::quiet_NaN()));
+  EXPECT_EQ(r.status, NewtonStatus::kNonFinite);
+  EXPECT_FALSE(r.warning.empty());
+}
+
+TEST(NewtonSafety, TheIterationLimitSaysSoAndReturnsTheBestState) {
+  // A slow valley: x^4 needs many Newton steps.
+  const NewtonProblem p = scalar_problem([](double x) { return std::pow(x, 4); },
+                                         [](double x) { return 4 * std::pow(x, 3); },
+                                         [](double x) { return 12 * x * x; });
+  NewtonOptions options;
+  options.max_iterations = 3;
+  options.tolerance = 1e-30;
+  const NewtonResult r = newton_minimize(p, Eigen::VectorXd::Constant(1, 10.0), options);
+  EXPECT_EQ(r.status, NewtonStatus::kIterationLimit);
+  EXPECT_EQ(r.iterations, 3);
+  EXPECT_LT(r.energy, 1e4);  // below the start's energy
+  EXPECT_NE(r.warning.find("did not converge in 3 iterations"), std::string::npos) << r.warning;
+}
+
+}  // namespace
+}  // namespace flatmorph
