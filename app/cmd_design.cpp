@@ -209,6 +209,12 @@ int run_design(DesignCliOptions& o, const GlobalOptions& global) {
   write_report(dir);
 
   finish_progress_line();
+  if (!design.optimization.initial_forward_converged) {
+    fmt::print(stderr,
+               "flatmorph: warning: the theta2 = 0 simulation did not converge; the design starts "
+               "from the best state reached (a finer mesh, a smaller --width or another material "
+               "usually helps)\n");
+  }
   if (!design.optimization.converged) {
     fmt::print(stderr, "flatmorph: warning: the theta2 optimization stopped early ({})\n",
                design.optimization.stop_reason);

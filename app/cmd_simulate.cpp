@@ -39,10 +39,11 @@ Eigen::MatrixXd read_shape(const std::string& path, const PlateFile& plate, cons
 }
 
 void print_result(const char* label, const SimulationResult& r) {
-  fmt::print("{}: energy {:.6g} mJ (membrane {:.4g}, bending {:.4g}), {} Newton iterations ({} "
-             "projected), {}, {:.2f} s\n",
-             label, r.energy, r.membrane_energy, r.bending_energy, r.iterations,
-             r.projected_iterations, to_string(r.status), r.seconds);
+  fmt::print(
+      "{}: energy {:.6g} mJ (membrane {:.4g}, bending {:.4g}), {} Newton iterations ({} "
+      "projected), {}, {:.2f} s\n",
+      label, r.energy, r.membrane_energy, r.bending_energy, r.iterations, r.projected_iterations,
+      to_string(r.status), r.seconds);
 }
 
 int run_simulate(const SimulateOptions& o, const GlobalOptions& global) {
@@ -51,9 +52,9 @@ int run_simulate(const SimulateOptions& o, const GlobalOptions& global) {
                     fmt::format("--layers {} is out of range: give 1 to 1000 layers", o.layers));
   }
   if (std::filesystem::path(o.output).extension() != ".ply") {
-    throw UserError(ErrorCategory::kOption,
-                    fmt::format("-o {}: the predicted shape is written as PLY; name it *.ply",
-                                o.output));
+    throw UserError(
+        ErrorCategory::kOption,
+        fmt::format("-o {}: the predicted shape is written as PLY; name it *.ply", o.output));
   }
   const Material material = load_material(o.material);
   const PlateFile plate = read_plate_file(o.plate_path);
@@ -61,9 +62,9 @@ int run_simulate(const SimulateOptions& o, const GlobalOptions& global) {
   PlateProblem problem;
   problem.plate = plate.plate;
   problem.F = plate.F;
-  problem.rest_forms = laminate(shrink_morph_layer_stack(
-      plate.theta1, vertex_to_face_average(plate.F, plate.theta2), material, o.layers,
-      material.layer_height));
+  problem.rest_forms =
+      laminate(shrink_morph_layer_stack(plate.theta1, vertex_to_face_average(plate.F, plate.theta2),
+                                        material, o.layers, material.layer_height));
   problem.stiffness = stiffness_of(material);
 
   Eigen::MatrixXd target;
@@ -72,9 +73,8 @@ int run_simulate(const SimulateOptions& o, const GlobalOptions& global) {
   if (o.from != "flat") start = read_shape(o.from, plate, "start shape");
 
   if (!global.quiet) {
-    fmt::print("plate: {} ({} vertices, {} faces), material {}, {} layers of {} mm\n",
-               o.plate_path, plate.plate.rows(), plate.F.rows(), material.name, o.layers,
-               material.layer_height);
+    fmt::print("plate: {} ({} vertices, {} faces), material {}, {} layers of {} mm\n", o.plate_path,
+               plate.plate.rows(), plate.F.rows(), material.name, o.layers, material.layer_height);
   }
   SimulationResult result;
   // With a 3D start, both starts are simulated so that several stable shapes can be reported.
@@ -97,10 +97,8 @@ int run_simulate(const SimulateOptions& o, const GlobalOptions& global) {
     if (!global.quiet) print_result("from flat", result);
   }
   if (!result.converged) {
-    fmt::print(stderr,
-               "flatmorph: warning: Newton stopped before converging ({}); the shape is the best "
-               "one reached. A finer mesh or a smaller plate usually helps.\n",
-               to_string(result.status));
+    fmt::print(stderr, "flatmorph: warning: simulation: {}\n",
+               result.warning.empty() ? std::string(to_string(result.status)) : result.warning);
   }
 
   MeshProperties properties;
@@ -111,9 +109,10 @@ int run_simulate(const SimulateOptions& o, const GlobalOptions& global) {
     const ShapeDistance d = shape_distance(result.V, target);
     properties.set_vertex("deviation_mm", d.per_vertex_mm);
     if (!global.quiet) {
-      fmt::print("distance to target: average {:.3f} % / max {:.3f} % of the diagonal ({:.3f} / "
-                 "{:.3f} mm, diagonal {:.1f} mm)\n",
-                 d.mean_percent, d.max_percent, d.mean_mm, d.max_mm, d.diagonal_mm);
+      fmt::print(
+          "distance to target: average {:.3f} % / max {:.3f} % of the diagonal ({:.3f} / "
+          "{:.3f} mm, diagonal {:.1f} mm)\n",
+          d.mean_percent, d.max_percent, d.mean_mm, d.max_mm, d.diagonal_mm);
     }
   }
   write_ply(o.output, Mesh{result.V, plate.F}, properties);
@@ -134,8 +133,9 @@ Command make_simulate_command(CLI::App& app, const GlobalOptions& global) {
       ->required();
   sub->add_option("--material", o->material, "Material preset name or JSON file")
       ->capture_default_str();
-  sub->add_option("--layers", o->layers, "Number of printed layers (each of the material's layer "
-                                         "height)")
+  sub->add_option("--layers", o->layers,
+                  "Number of printed layers (each of the material's layer "
+                  "height)")
       ->capture_default_str();
   sub->add_option("--from", o->from,
                   "Start state: 'flat' (the plate with a tiny bump following its rest curvature: "

@@ -55,6 +55,7 @@ SimulationResult simulate(const PlateProblem& problem, const Eigen::MatrixXd& st
   out.projected_iterations = r.projected_iterations;
   out.converged = r.converged();
   out.status = r.status;
+  out.warning = r.warning;
   out.assembly_seconds = r.assembly_seconds;
   out.factorization_seconds = r.factorization_seconds;
   out.solve_seconds = r.solve_seconds;

@@ -11,6 +11,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <string>
 
 #include "numerics/newton.h"
 #include "plate/laminate.h"
@@ -43,6 +44,7 @@ struct SimulationResult {
   int projected_iterations = 0;
   bool converged = false;
   NewtonStatus status = NewtonStatus::kIterationLimit;
+  std::string warning;   // empty when converged; else why Newton stopped and what to change
   double seconds = 0.0;  // wall clock, whole call
   // From Newton: evaluation (energy, gradient, Hessian), factorization, solves, line search.
   double assembly_seconds = 0.0;

@@ -1,6 +1,8 @@
 // GCC 12 reports a false "may be used uninitialized" inside Eigen 3.4's tridiagonalization (the
 // eigen-decompositions below); the warning is about Eigen's code, not this file's.
+#if !defined(__clang__)  // clang has no such warning
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
 
 #include "numerics/psd_projection.h"
 

@@ -129,8 +129,8 @@ Design design_shrink_morph(Mesh target, const std::string& source, const DesignO
                            down.converged ? "" : " (still moving)"));
       // A side still moving after the cap is leaving the target's neighbourhood; an unfinished
       // state's distance says nothing yet.
-      const bool down_wins = down.converged != up.converged ? down.converged
-                                                            : down_distance < up_distance;
+      const bool down_wins =
+          down.converged != up.converged ? down.converged : down_distance < up_distance;
       if (down_wins) {
         out.flat = std::move(other);
         out.side_agreement = printed_side_agreement(out.flat, options.material, printed_thickness);
@@ -158,12 +158,11 @@ Design design_shrink_morph(Mesh target, const std::string& source, const DesignO
   const auto t_optim = Clock::now();
   if (!optimize.progress && options.progress) {
     optimize.progress = [&](const Theta2Iteration& it) {
-      report_progress(options.progress,
-                      {"optimize theta2", it.iteration + 1, 0, it.objective,
-                       fmt::format("step {:.3g} ({} trials, {} Newton iterations), {} CG "
-                                   "iterations{}",
-                                   it.step, it.line_search_trials, it.forward_iterations,
-                                   it.cg_iterations, it.shifted_hessian ? ", H shifted" : "")});
+      report_progress(
+          options.progress,
+          {"optimize theta2", it.iteration + 1, 0, it.objective,
+           fmt::format("step {:.3g} ({} trials, {} Newton iterations), {} CG iterations", it.step,
+                       it.line_search_trials, it.forward_iterations, it.cg_iterations)});
     };
   }
   progress("simulate", "theta2 = 0, from the target");

@@ -332,7 +332,9 @@ Theta2Result optimize_theta2(const Theta2Problem& problem, const Eigen::VectorXd
     const double direction_max = direction.cwiseAbs().maxCoeff();
     double step = std::min(1.0, trust_radius / direction_max);
     bool accepted = false;
-    for (int k = 0; k < options.max_line_search_steps; ++k, step *= 0.5) {
+    for (int k = 0;
+         k < options.max_line_search_steps && step * direction_max >= options.min_step_rad;
+         ++k, step *= 0.5) {
       const Eigen::VectorXd trial_theta2 = theta2 + step * direction;
       // Warm start at the linear prediction x + s S Δθ.
       const NewtonResult trial =
@@ -359,7 +361,13 @@ Theta2Result optimize_theta2(const Theta2Problem& problem, const Eigen::VectorXd
     out.history.push_back(record);
     if (options.progress) options.progress(record);
     if (!accepted) {
-      out.stop_reason = "line search failed";
+      // Every step longer than min_step_rad leaves the current equilibrium branch (the forward
+      // solve of each trial turns unstable): the equilibrium sits near a fold, and the shapes
+      // closer to the target lie beyond it. Solving such a trial to the end (a snap) took the hat
+      // 200 Newton iterations without settling, so the optimization stops here.
+      out.stop_reason = step * direction_max < options.min_step_rad
+                            ? "stalled: every step leaves the current equilibrium branch"
+                            : "line search failed";
       break;
     }
     ++out.iterations;

@@ -59,6 +59,9 @@ struct OptimizeTheta2Options {
   double armijo_constant = 1e-4;
   int max_line_search_steps = 20;  // Armijo backtracking by halves
   double max_step_rad = 0.1;       // the line search starts with max |Δθ2| at most this
+  // Backtracking gives up when max |Δθ2| falls below this (the optimization has stalled at a
+  // fold of the equilibrium branch).
+  double min_step_rad = 1e-3;
   // Newton iterations allowed to a line-search trial's forward solve (it starts at the linear
   // prediction, so a trial that needs more is a step too long, e.g. a snap-through): rejected.
   int max_trial_forward_iterations = 4;
