@@ -14,23 +14,12 @@
 #include "gcode/gcode_writer.h"
 #include "gcode/printer_profile.h"
 #include "material/material.h"
+#include "output_folder.h"
 
 namespace flatmorph::cli {
 namespace {
 
 namespace fs = std::filesystem;
-
-// The folder of an output file, created if needed; a path that cannot be is a user error.
-void create_parent_folder(const fs::path& out) {
-  if (out.parent_path().empty()) return;
-  std::error_code error;
-  fs::create_directories(out.parent_path(), error);
-  if (error) {
-    throw UserError(ErrorCategory::kFile,
-                    fmt::format("{}: cannot create the output folder ({}); choose another -o",
-                                out.parent_path().string(), error.message()));
-  }
-}
 
 struct PrintOptions {
   std::string printer;
@@ -109,7 +98,7 @@ int run_print(const PrintOptions& o, const GlobalOptions& global) {
   }
   const fs::path csv = fs::path(stem.string() + ".csv");
   const fs::path svg = fs::path(stem.string() + ".svg");
-  create_parent_folder(out);
+  create_output_folder(out.parent_path());
   for (size_t p = 0; p < plan.plates.size(); ++p) write_text(gcode_paths[p], results[p].text);
   write_text(csv, calibration_csv_template(plan, material, printer));
   write_text(svg, calibration_layout_svg(plan, printer, offsets, names));
@@ -205,7 +194,7 @@ int run_fit(const FitOptions& o, const GlobalOptions& global) {
   fitted.thickness_curve = curve;
 
   const fs::path plot = o.plot.empty() ? fs::path(out).replace_extension(".svg") : fs::path(o.plot);
-  create_parent_folder(out);
+  create_output_folder(out.parent_path());
   write_material(out, fitted);
   std::vector<SetFit> all;
   for (const MeasurementSheet& s : sheets) {

@@ -18,6 +18,7 @@
 #include "mesh/io.h"
 #include "mesh_input.h"
 #include "methods/shrink_morph/design.h"
+#include "output_folder.h"
 #include "print_files.h"
 #include "progress_display.h"
 #include "report/report.h"
@@ -155,13 +156,7 @@ int run_design(DesignCliOptions& o, const GlobalOptions& global) {
   }
 
   const std::filesystem::path dir = o.output;
-  std::error_code error;
-  std::filesystem::create_directories(dir, error);
-  if (error) {
-    throw UserError(ErrorCategory::kFile,
-                    fmt::format("{}: cannot create the output folder ({}); choose another -o DIR",
-                                dir.string(), error.message()));
-  }
+  create_output_folder(dir);
   MeshProperties flat_properties;
   flat_properties.set_face("theta1", design.flat.theta1);
   flat_properties.set_vertex("theta2", design.theta2);

@@ -15,6 +15,7 @@
 #include "mesh/prepare.h"
 #include "mesh_input.h"
 #include "methods/shrink_morph/flatten.h"
+#include "output_folder.h"
 
 namespace flatmorph::cli {
 namespace {
@@ -84,13 +85,7 @@ int run_flatten(const FlattenCliOptions& options, const GlobalOptions& global) {
   properties.set_face("theta1", plate.theta1);
   properties.set_face("sv_deviation", plate.sv_deviation);
   const std::filesystem::path dir = options.output;
-  std::error_code error;
-  std::filesystem::create_directories(dir, error);
-  if (error) {
-    throw UserError(ErrorCategory::kFile,
-                    fmt::format("{}: cannot create the output folder ({}); choose another -o DIR",
-                                dir.string(), error.message()));
-  }
+  create_output_folder(dir);
   write_ply(dir / "target.ply", plate.target);
   write_ply(dir / "flat.ply", flat, properties);
 

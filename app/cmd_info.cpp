@@ -37,9 +37,10 @@ int run_info(const InfoOptions& options) {
                           {"error_category", to_string(e.category())}};
       fmt::print("{}\n", j.dump(2));
     } else {
-      fmt::print("file:            {}\nread before the error: {} vertices, {} faces\nvalid:       "
-                 "     no\n",
-                 source, e.vertices_read, e.faces_read);
+      fmt::print(
+          "file:            {}\nread before the error: {} vertices, {} faces\nvalid:       "
+          "     no\n",
+          source, e.vertices_read, e.faces_read);
     }
     fmt::print(stderr, "flatmorph: error [{}]: {}\n", to_string(e.category()), e.what());
     return 2;
@@ -73,12 +74,12 @@ int run_info(const InfoOptions& options) {
     j["area"] = mesh.num_faces() ? face_areas(mesh.V, mesh.F).sum() : 0.0;
   }
   // Curvature needs a manifold, finite mesh; skip it otherwise rather than guess.
-  const bool curvature_ok = finite && mesh.num_faces() > 0 &&
-                            std::none_of(diagnosis.problems.begin(), diagnosis.problems.end(),
-                                         [](const MeshProblem& p) {
-                                           return p.category == ErrorCategory::kGeometry ||
-                                                  p.what.find("non-manifold") != std::string::npos;
-                                         });
+  const bool curvature_ok =
+      finite && mesh.num_faces() > 0 &&
+      std::none_of(diagnosis.problems.begin(), diagnosis.problems.end(), [](const MeshProblem& p) {
+        return p.category == ErrorCategory::kGeometry ||
+               p.what.find("non-manifold") != std::string::npos;
+      });
   if (curvature_ok) {
     const EdgeTopology topology = edge_topology(mesh.F);
     Eigen::VectorXd mean, gaussian;
@@ -126,9 +127,10 @@ int run_info(const InfoOptions& options) {
     fmt::print("boundary loops:       {}\n", diagnosis.num_boundary_loops);
     fmt::print("euler characteristic: {}\n", diagnosis.euler_characteristic);
     if (curvature_ok) {
-      fmt::print("mean curvature:       [{:.4g}, {:.4g}] (1/length; > 0 where the surface bends "
-                 "toward its normals)\n",
-                 j["mean_curvature"][0].get<double>(), j["mean_curvature"][1].get<double>());
+      fmt::print(
+          "mean curvature:       [{:.4g}, {:.4g}] (1/length; > 0 where the surface bends "
+          "toward its normals)\n",
+          j["mean_curvature"][0].get<double>(), j["mean_curvature"][1].get<double>());
       fmt::print("gaussian curvature:   [{:.4g}, {:.4g}] (1/length^2)\n",
                  j["gaussian_curvature"][0].get<double>(),
                  j["gaussian_curvature"][1].get<double>());
@@ -140,7 +142,8 @@ int run_info(const InfoOptions& options) {
     }
   }
   if (!diagnosis.is_disk()) {
-    fmt::print(stderr, "flatmorph: error [{}]: {}\n", to_string(diagnosis.problems.front().category),
+    fmt::print(stderr, "flatmorph: error [{}]: {}\n",
+               to_string(diagnosis.problems.front().category),
                problem_line(source, diagnosis.problems.front()));
     return 2;
   }

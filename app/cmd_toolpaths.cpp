@@ -6,6 +6,7 @@
 
 #include "commands.h"
 #include "common/error.h"
+#include "output_folder.h"
 #include "plate/plate_file.h"
 #include "print_files.h"
 #include "progress_display.h"
@@ -62,13 +63,7 @@ int run_toolpaths(const ToolpathsOptions& o, const GlobalOptions& global) {
   const PrintPlan plan =
       plan_print(plate.plate, plate.F, plate.theta1, plate.theta2, printer, material, options);
 
-  std::error_code error;
-  std::filesystem::create_directories(o.output, error);
-  if (error) {
-    throw UserError(ErrorCategory::kFile,
-                    fmt::format("{}: cannot create the output folder ({}); choose another -o DIR",
-                                o.output, error.message()));
-  }
+  create_output_folder(o.output);
   const std::filesystem::path out(o.output);
   write_print_files(out, plan, printer, material);
   finish_progress_line();

@@ -67,18 +67,12 @@ int main(int argc, char** argv) {
 
   // Add new commands here, one line each, in the order `flatmorph --help` lists them.
   std::vector<cli::Command> commands = {
-      cli::make_info_command(app, global),
-      cli::make_example_command(app, global),
-      cli::make_printers_command(app, global),
-      cli::make_materials_command(app, global),
-      cli::make_check_command(app, global),
-      cli::make_flatten_command(app, global),
-      cli::make_simulate_command(app, global),
-      cli::make_toolpaths_command(app, global),
-      cli::make_design_command(app, global),
-      cli::make_calibrate_command(app, global),
-      cli::make_report_command(app, global),
-      cli::make_view_command(app, global),
+      cli::make_info_command(app, global),     cli::make_example_command(app, global),
+      cli::make_printers_command(app, global), cli::make_materials_command(app, global),
+      cli::make_check_command(app, global),    cli::make_flatten_command(app, global),
+      cli::make_simulate_command(app, global), cli::make_toolpaths_command(app, global),
+      cli::make_design_command(app, global),   cli::make_calibrate_command(app, global),
+      cli::make_report_command(app, global),   cli::make_view_command(app, global),
   };
 
   try {
@@ -86,8 +80,10 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
     // One line, like every other error (CLI11's messages are one line).
-    fmt::print(stderr, "flatmorph: error [{}]: {}; run 'flatmorph --help' (or 'flatmorph COMMAND --help')\n",
-               to_string(ErrorCategory::kOption), e.what());
+    fmt::print(
+        stderr,
+        "flatmorph: error [{}]: {}; run 'flatmorph --help' (or 'flatmorph COMMAND --help')\n",
+        to_string(ErrorCategory::kOption), e.what());
     return 2;
   }
   try {

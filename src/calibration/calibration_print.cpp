@@ -9,6 +9,7 @@
 #include <numbers>
 
 #include "common/error.h"
+#include "common/markup.h"
 
 namespace flatmorph {
 namespace {
@@ -103,29 +104,6 @@ PathPolyline line(const Eigen::Vector2d& a, const Eigen::Vector2d& b, double z,
   p.segments = {style};
   p.type = PathType::kSolidInfill;
   return p;
-}
-
-std::string xml_escape(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    switch (c) {
-      case '&':
-        out += "&amp;";
-        break;
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      default:
-        out += c;
-    }
-  }
-  return out;
 }
 
 }  // namespace

@@ -10,6 +10,7 @@
 
 #include "common/atomic_file.h"
 #include "common/error.h"
+#include "common/markup.h"
 #include "gcode/preview.h"
 #include "mesh/topology.h"
 #include "report/pictures.h"
@@ -288,29 +289,6 @@ std::string title(const RunFolder& run) {
   return name;
 }
 
-std::string html_escape(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    switch (c) {
-      case '&':
-        out += "&amp;";
-        break;
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      default:
-        out += c;
-    }
-  }
-  return out;
-}
-
 void replace_all(std::string& text, const std::string& from, const std::string& to) {
   for (size_t at = text.find(from); at != std::string::npos; at = text.find(from, at + to.size())) {
     text.replace(at, from.size(), to);
@@ -365,7 +343,7 @@ std::string report_html(const RunFolder& run) {
   std::string json = data.dump();
   replace_all(json, "<", "\\u003c");
   std::string html(viewer_html_template());
-  replace_all(html, "__FLATMORPH_TITLE__", html_escape(title(run)));
+  replace_all(html, "__FLATMORPH_TITLE__", xml_escape(title(run)));
   const size_t at = html.find("__FLATMORPH_DATA__");
   if (at == std::string::npos) throw std::logic_error("viewer template without data placeholder");
   html.replace(at, std::string_view("__FLATMORPH_DATA__").size(), json);
