@@ -191,6 +191,8 @@ int run_design(DesignCliOptions& o, const GlobalOptions& global) {
   j["printer"] = printer.name;
   j["optim_stop_reason"] = design.optimization.stop_reason;
   nlohmann::ordered_json metrics = metrics_json(design.metrics);
+  metrics["infeasible_area_pct"] = 100 * design.flat.feasibility.infeasible_area_fraction;
+  metrics["sv_deviation_mean_pct"] = 100 * design.flat.feasibility.mean_deviation;
   if (plan) {
     metrics["print_time_s"] = plan->gcode.print_time;
     metrics["filament_mm"] = plan->gcode.filament_length;
@@ -204,6 +206,17 @@ int run_design(DesignCliOptions& o, const GlobalOptions& global) {
   write_report(dir);
 
   finish_progress_line();
+  for (const std::string& warning : design.flat.warnings) {
+    fmt::print(stderr, "flatmorph: warning: flatten: {}\n", warning);
+  }
+  if (design.flat.feasibility.infeasible_area_fraction > 0) {
+    fmt::print(stderr,
+               "flatmorph: warning: {:.1f} % of the target's area needs more shrink than the "
+               "material gives (singular values more than 5 % from 1/lambda): expect larger "
+               "deviations there; a smaller or less curved target, or a material that shrinks "
+               "more (flatmorph calibrate), helps\n",
+               100 * design.flat.feasibility.infeasible_area_fraction);
+  }
   if (!design.optimization.initial_forward_converged) {
     fmt::print(stderr,
                "flatmorph: warning: the theta2 = 0 simulation did not converge; the design starts "
@@ -211,7 +224,10 @@ int run_design(DesignCliOptions& o, const GlobalOptions& global) {
                "usually helps)\n");
   }
   if (!design.optimization.converged) {
-    fmt::print(stderr, "flatmorph: warning: the theta2 optimization stopped early ({})\n",
+    fmt::print(stderr,
+               "flatmorph: warning: the theta2 optimization stopped early ({}); the design uses "
+               "the best theta2 found. A finer mesh (--faces), a smaller --width or stronger "
+               "regularization (--wM, --wL) usually helps\n",
                design.optimization.stop_reason);
   }
   if (o.json) fmt::print("{}\n", j.dump(2));

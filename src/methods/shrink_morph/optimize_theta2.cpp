@@ -311,6 +311,12 @@ Theta2Result optimize_theta2(const Theta2Problem& problem, const Eigen::VectorXd
       break;
     }
     const Eigen::VectorXd g = solver.gradient(x, theta2);
+    if (!g.allFinite() || !std::isfinite(objective)) {
+      // Keep the last finite state rather than report a stationary point of NaNs.
+      out.stop_reason = "the objective or its gradient is not finite";
+      out.history.push_back(record);
+      break;
+    }
     const auto t_cg = Clock::now();
     Eigen::VectorXd direction;
     record.cg_iterations =
