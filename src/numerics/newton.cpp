@@ -122,23 +122,65 @@ std::string advice(const NewtonResult& r, const NewtonOptions& options) {
 
 }  // namespace
 
+struct NewtonWorkspace::State {
+  int num_variables = -1;
+  std::vector<int> fixed_variables;
+  std::vector<int> reduced_index;  // per variable: its index among the free ones, or -1
+  std::vector<int> free_variables;
+  std::unique_ptr<ReducedHessian> reduced;
+  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> solver;
+  bool analyzed = false;
+  bool exact_at_result = false;
+
+  State() { solver.cholmod().print = 0; }  // a failed factorization is expected, not news
+
+  void prepare(const NewtonProblem& problem) {
+    std::vector<int> fixed = problem.fixed_variables;
+    std::sort(fixed.begin(), fixed.end());
+    fixed.erase(std::unique(fixed.begin(), fixed.end()), fixed.end());
+    exact_at_result = false;
+    if (problem.num_variables == num_variables && fixed == fixed_variables) return;
+    num_variables = problem.num_variables;
+    fixed_variables = std::move(fixed);
+    reduced_index.assign(num_variables, 0);
+    for (int v : fixed_variables) reduced_index[v] = -1;
+    free_variables.clear();
+    for (int i = 0; i < num_variables; ++i) {
+      if (reduced_index[i] == 0) {
+        reduced_index[i] = static_cast<int>(free_variables.size());
+        free_variables.push_back(i);
+      }
+    }
+    reduced.reset();
+    analyzed = false;
+  }
+};
+
+NewtonWorkspace::NewtonWorkspace() : state_(std::make_unique<State>()) {}
+NewtonWorkspace::~NewtonWorkspace() = default;
+
+bool NewtonWorkspace::holds_exact_factorization() const { return state_->exact_at_result; }
+
+Eigen::VectorXd NewtonWorkspace::solve(const Eigen::VectorXd& b) const {
+  const State& s = *state_;
+  Eigen::VectorXd free_b(s.free_variables.size());
+  for (size_t i = 0; i < s.free_variables.size(); ++i) free_b(i) = b(s.free_variables[i]);
+  const Eigen::VectorXd free_x = s.solver.solve(free_b);
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(s.num_variables);
+  for (size_t i = 0; i < s.free_variables.size(); ++i) x(s.free_variables[i]) = free_x(i);
+  return x;
+}
+
 namespace {
 
 NewtonResult minimize(const NewtonProblem& problem, const Eigen::VectorXd& x0,
-                      const NewtonOptions& options) {
+                      const NewtonOptions& options, NewtonWorkspace::State& state) {
   const int n = problem.num_variables;
   NewtonResult result;
   result.x = x0;
 
-  std::vector<int> reduced_index(n, 0);
-  for (int v : problem.fixed_variables) reduced_index[v] = -1;
-  std::vector<int> free_variables;
-  for (int i = 0; i < n; ++i) {
-    if (reduced_index[i] == 0) {
-      reduced_index[i] = static_cast<int>(free_variables.size());
-      free_variables.push_back(i);
-    }
-  }
+  state.prepare(problem);
+  const std::vector<int>& free_variables = state.free_variables;
   const int num_free = static_cast<int>(free_variables.size());
   auto restrict = [&](const Eigen::VectorXd& full) {
     Eigen::VectorXd r(num_free);
@@ -166,20 +208,17 @@ NewtonResult minimize(const NewtonProblem& problem, const Eigen::VectorXd& x0,
     return result;
   }
 
-  ReducedHessian reduced(hessian, reduced_index, num_free);
-  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> solver;
-  solver.cholmod().print = 0;  // a failed factorization is expected (indefinite Hessian), not news
-  bool analyzed = false;
+  auto& solver = state.solver;
   auto factorize = [&](const Eigen::SparseMatrix<double>& full, double shift) {
     const auto t0 = Clock::now();
-    if (!reduced.matches(full)) {
-      reduced = ReducedHessian(full, reduced_index, num_free);
-      analyzed = false;
+    if (!state.reduced || !state.reduced->matches(full)) {
+      state.reduced = std::make_unique<ReducedHessian>(full, state.reduced_index, num_free);
+      state.analyzed = false;
     }
-    const Eigen::SparseMatrix<double>& h = reduced.update(full);
-    if (!analyzed) {
+    const Eigen::SparseMatrix<double>& h = state.reduced->update(full);
+    if (!state.analyzed) {
       solver.analyzePattern(h);
-      analyzed = true;
+      state.analyzed = true;
     }
     solver.setShift(shift);
     solver.factorize(h);
@@ -200,7 +239,7 @@ NewtonResult minimize(const NewtonProblem& problem, const Eigen::VectorXd& x0,
       ok = factorize(hessian, 0.0);
       // A sum of PSD element Hessians can still be singular (flat directions no element sees):
       // shift it by growing multiples of its largest diagonal entry until it factorizes.
-      const double scale = reduced.update(hessian).diagonal().cwiseAbs().maxCoeff();
+      const double scale = state.reduced->update(hessian).diagonal().cwiseAbs().maxCoeff();
       for (double s = 1e-12; !ok && s <= 1e-2; s *= 100) ok = factorize(hessian, s * scale);
       if (!ok) {
         result.status = NewtonStatus::kFactorizationFailed;
@@ -218,6 +257,7 @@ NewtonResult minimize(const NewtonProblem& problem, const Eigen::VectorXd& x0,
     record.decrement = -0.5 * slope;
     if (record.exact_hessian && record.decrement < options.tolerance) {
       result.status = NewtonStatus::kConverged;
+      state.exact_at_result = true;
       result.history.push_back(record);
       break;
     }
@@ -294,8 +334,9 @@ NewtonResult minimize(const NewtonProblem& problem, const Eigen::VectorXd& x0,
 }  // namespace
 
 NewtonResult newton_minimize(const NewtonProblem& problem, const Eigen::VectorXd& x0,
-                             const NewtonOptions& options) {
-  NewtonResult result = minimize(problem, x0, options);
+                             const NewtonOptions& options, NewtonWorkspace* workspace) {
+  NewtonWorkspace local;
+  NewtonResult result = minimize(problem, x0, options, *(workspace ? workspace : &local)->state_);
   result.warning = advice(result, options);
   return result;
 }

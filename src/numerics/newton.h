@@ -11,6 +11,7 @@
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 #include <functional>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -89,10 +90,39 @@ struct NewtonResult {
   bool converged() const { return status == NewtonStatus::kConverged; }
 };
 
+// What newton_minimize keeps between calls on problems with the same variables, fixed variables
+// and Hessian pattern (the theta2 optimization solves hundreds of equilibria of one plate): the
+// restriction to the free variables and CHOLMOD's symbolic analysis are built once, and after a
+// converged call the factorization of the exact Hessian at the returned x stays available for
+// solves with that Hessian (the adjoint and sensitivity solves need exactly it).
+class NewtonWorkspace {
+ public:
+  NewtonWorkspace();
+  ~NewtonWorkspace();
+  NewtonWorkspace(const NewtonWorkspace&) = delete;
+  NewtonWorkspace& operator=(const NewtonWorkspace&) = delete;
+
+  // True when the last newton_minimize call with this workspace converged (so the factorization
+  // it holds is of the exact, unshifted Hessian at the x it returned).
+  bool holds_exact_factorization() const;
+  // H^-1 b over all variables, H the factorized Hessian restricted to the free variables: the
+  // entries of b at fixed variables are ignored and the result is zero there.
+  Eigen::VectorXd solve(const Eigen::VectorXd& b) const;
+
+  struct State;
+
+ private:
+  friend NewtonResult newton_minimize(const NewtonProblem&, const Eigen::VectorXd&,
+                                      const NewtonOptions&, NewtonWorkspace*);
+  std::unique_ptr<State> state_;
+};
+
 // Minimizes problem.evaluate starting from x0 (size num_variables). Never throws on numerical
 // trouble (non-convergence, NaN or infinite energy, gradient or step, exploding energy or state):
 // it stops and returns the best finite state reached, with the reason in `status` and `warning`.
+// With a workspace, the symbolic work of earlier calls is reused (see NewtonWorkspace).
 NewtonResult newton_minimize(const NewtonProblem& problem, const Eigen::VectorXd& x0,
-                             const NewtonOptions& options = {});
+                             const NewtonOptions& options = {},
+                             NewtonWorkspace* workspace = nullptr);
 
 }  // namespace flatmorph

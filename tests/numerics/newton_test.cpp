@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Dense>
 #include <cmath>
 
 #include "numerics/psd_projection.h"
@@ -70,6 +71,66 @@ TEST(Newton, QuadraticWithFixedEndsConvergesInOneStep) {
     EXPECT_NEAR((1.0 + 0.1 * i) * (r.x(i + 1) - r.x(i)), tension, 1e-12);
   }
   EXPECT_LT(r.gradient_norm, 1e-10);
+}
+
+TEST(Newton, WorkspaceKeepsTheConvergedFactorizationAndGivesTheSameResult) {
+  const int n = 30;
+  Eigen::VectorXd b(n);
+  for (int i = 0; i < n; ++i) b(i) = std::sin(0.7 * i);
+  NewtonProblem p = spring_chain(n, b);
+  p.fixed_variables = {0, 17};
+  const Eigen::VectorXd x0 = Eigen::VectorXd::Zero(n);
+  NewtonWorkspace workspace;
+  EXPECT_FALSE(workspace.holds_exact_factorization());
+  const NewtonResult alone = newton_minimize(p, x0);
+  for (int call = 0; call < 2; ++call) {  // the second call reuses the symbolic analysis
+    const NewtonResult r = newton_minimize(p, x0, {}, &workspace);
+    ASSERT_TRUE(r.converged()) << to_string(r.status);
+    EXPECT_EQ(r.x, alone.x);
+    ASSERT_TRUE(workspace.holds_exact_factorization());
+  }
+  // The held factorization is the Hessian restricted to the free variables: check H^-1 c against
+  // a dense solve, with c's fixed entries ignored and the result zero there.
+  Eigen::SparseMatrix<double> lower;
+  p.evaluate(alone.x, nullptr, &lower, false);
+  const Eigen::MatrixXd full = Eigen::MatrixXd(lower).selfadjointView<Eigen::Lower>();
+  std::vector<int> free;
+  for (int i = 0; i < n; ++i) {
+    if (i != 0 && i != 17) free.push_back(i);
+  }
+  const int m = static_cast<int>(free.size());
+  Eigen::MatrixXd h(m, m);
+  Eigen::VectorXd c_free(m);
+  Eigen::VectorXd c = Eigen::VectorXd::LinSpaced(n, -1.0, 2.0);
+  for (int i = 0; i < m; ++i) {
+    c_free(i) = c(free[i]);
+    for (int j = 0; j < m; ++j) h(i, j) = full(free[i], free[j]);
+  }
+  const Eigen::VectorXd expected = h.ldlt().solve(c_free);
+  const Eigen::VectorXd solved = workspace.solve(c);
+  EXPECT_EQ(solved(0), 0.0);
+  EXPECT_EQ(solved(17), 0.0);
+  for (int i = 0; i < m; ++i) EXPECT_NEAR(solved(free[i]), expected(i), 1e-9 * expected.norm());
+
+  // A call that stops early leaves no exact factorization behind.
+  NewtonOptions one_step;
+  one_step.max_iterations = 1;
+  NewtonProblem pulled = spring_chain(n, 3 * b);
+  pulled.fixed_variables = {0};
+  pulled.evaluate = [inner = pulled.evaluate](const Eigen::VectorXd& x, Eigen::VectorXd* g,
+                                              Eigen::SparseMatrix<double>* hessian, bool proj) {
+    // A quartic term makes Newton need more than one step.
+    double e = inner(x, g, hessian, proj);
+    e += 0.25 * x.array().pow(4).sum();
+    if (g) *g += x.array().pow(3).matrix();
+    if (hessian) {
+      for (int i = 0; i < x.size(); ++i) hessian->coeffRef(i, i) += 3 * x(i) * x(i);
+    }
+    return e;
+  };
+  const NewtonResult early = newton_minimize(pulled, x0, one_step, &workspace);
+  EXPECT_FALSE(early.converged());
+  EXPECT_FALSE(workspace.holds_exact_factorization());
 }
 
 TEST(Newton, SingularHessianIsShiftedUntilItFactorizes) {

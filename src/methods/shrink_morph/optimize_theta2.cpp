@@ -123,8 +123,9 @@ class Theta2Solver {
         max_iterations >= 0 ? max_iterations : options_.forward.max_iterations;
     newton_options.tolerance = newton_tolerance_ * tolerance_factor;
     const auto t0 = Clock::now();
-    NewtonResult r = newton_minimize(newton, start, newton_options);
+    NewtonResult r = newton_minimize(newton, start, newton_options, &workspace_);
     forward_seconds_ += seconds_since(t0);
+    forward_x_ = r.x;
     return r;
   }
 
@@ -141,7 +142,16 @@ class Theta2Solver {
 
   // Factorizes H at x (the energy's current theta2) with the fixed variables decoupled (unit
   // rows/columns), and the sensitivity right-hand side J = ∂²W/∂x∂θ2 (3V x V, fixed rows zero).
+  // When x is the converged result of the last forward solve, its final Newton factorization is
+  // that of H at x already, and is reused.
   bool linearize(const Eigen::VectorXd& x) {
+    Eigen::SparseMatrix<double> mixed =
+        rest_curvature_mixed_derivative(energy_, x, directions_) * face_average_;
+    mixed.prune([this](Eigen::Index row, Eigen::Index, double) { return !is_fixed_[row]; });
+    sensitivity_rhs_ = mixed;
+    sensitivity_rhs_t_ = mixed.transpose();
+    use_forward_factorization_ = workspace_.holds_exact_factorization() && x == forward_x_;
+    if (use_forward_factorization_) return true;
     Eigen::VectorXd gradient;
     evaluate_plate_energy(energy_, x, &gradient, &hessian_, false);
     double* values = hessian_.valuePtr();
@@ -163,15 +173,13 @@ class Theta2Solver {
       }
       if (solver_.info() != Eigen::Success) return false;
     }
-    Eigen::SparseMatrix<double> mixed =
-        rest_curvature_mixed_derivative(energy_, x, directions_) * face_average_;
-    mixed.prune([this](Eigen::Index row, Eigen::Index, double) { return !is_fixed_[row]; });
-    sensitivity_rhs_ = mixed;
-    sensitivity_rhs_t_ = mixed.transpose();
     return true;
   }
 
-  Eigen::VectorXd solve(const Eigen::VectorXd& b) const { return solver_.solve(b); }
+  // H⁻¹ b for b zero at the fixed variables (the result is zero there too).
+  Eigen::VectorXd solve(const Eigen::VectorXd& b) const {
+    return use_forward_factorization_ ? workspace_.solve(b) : solver_.solve(b);
+  }
 
   // dE/dx at x (zero at the fixed variables).
   Eigen::VectorXd distance_gradient(const Eigen::VectorXd& x) const {
@@ -226,6 +234,9 @@ class Theta2Solver {
   Eigen::SparseMatrix<double> hessian_, sensitivity_rhs_, sensitivity_rhs_t_;
   Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> solver_;
   bool analyzed_ = false;
+  NewtonWorkspace workspace_;
+  Eigen::VectorXd forward_x_;  // the last forward solve's result
+  bool use_forward_factorization_ = false;
   double forward_seconds_ = 0;
   int shifted_factorizations_ = 0;
 };
