@@ -2,7 +2,6 @@
 // (Shrink & Morph §3.2.1; docs/flatten.md).
 #include <fmt/core.h>
 
-#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <limits>
@@ -10,6 +9,7 @@
 
 #include "commands.h"
 #include "common/error.h"
+#include "common/stopwatch.h"
 #include "material/material.h"
 #include "mesh/io.h"
 #include "mesh/prepare.h"
@@ -52,15 +52,11 @@ void check(const FlattenCliOptions& o) {
   require(!o.output.empty(), "flatmorph flatten needs an output folder: -o DIR");
 }
 
-double seconds_since(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
 int run_flatten(const FlattenCliOptions& options, const GlobalOptions& global) {
   check(options);
   const Material material = load_material(options.material);
 
-  const auto start = std::chrono::steady_clock::now();
+  const auto start = Clock::now();
   const std::string source = describe(options.input);
   const PreparedTarget prepared =
       prepare_target(load_mesh_input(options.input).mesh, source, options.faces);

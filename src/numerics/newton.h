@@ -3,8 +3,9 @@
 //
 // Each iteration tries the exact Hessian first (fast, quadratic convergence near a minimum); when
 // its Cholesky factorization fails (the Hessian is not positive definite, e.g. while a flat plate
-// buckles) it falls back to the Hessian assembled from per-element Hessians projected onto the PSD
-// cone, which always gives a descent direction. Steps are chosen by Armijo backtracking. The
+// buckles) it falls back to 0.9 times the exact Hessian plus 0.1 times the one assembled from
+// per-element Hessians projected onto the PSD cone, and when that fails too, to the projected one
+// alone, which always gives a descent direction. Steps are chosen by Armijo backtracking. The
 // sparsity pattern is fixed, so CHOLMOD's symbolic analysis (fill-reducing ordering) is done once.
 #pragma once
 

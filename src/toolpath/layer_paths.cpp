@@ -2,11 +2,11 @@
 
 #include <fmt/core.h>
 
-#include <chrono>
 #include <cmath>
 #include <string>
 
 #include "common/error.h"
+#include "common/stopwatch.h"
 #include "mesh/topology.h"
 #include "toolpath/isolines.h"
 #include "toolpath/line_field.h"
@@ -16,12 +16,6 @@
 
 namespace flatmorph {
 namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double seconds_since(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
 
 void check_options(const Eigen::MatrixXd& plate, const Eigen::MatrixXi& F,
                    const Eigen::VectorXd& theta1_face, const Eigen::VectorXd& theta2_vertex,

@@ -4,10 +4,10 @@
 
 #include <Eigen/LU>
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 
 #include "common/error.h"
+#include "common/stopwatch.h"
 #include "mesh/operators.h"
 #include "mesh/prepare.h"
 #include "mesh/topology.h"
@@ -15,15 +15,7 @@
 #include "simulate/simulate.h"
 
 namespace flatmorph {
-namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double seconds_since(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
-
-}  // namespace
+namespace {}  // namespace
 
 double printed_side_agreement(const FlatPlate& flat, const Material& material,
                               double printed_thickness_mm) {

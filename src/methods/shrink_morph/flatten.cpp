@@ -5,13 +5,13 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <limits>
 #include <numbers>
 #include <utility>
 
 #include "common/error.h"
+#include "common/stopwatch.h"
 #include "mesh/topology.h"
 #include "methods/shrink_morph/flatten_internal.h"
 
@@ -60,10 +60,6 @@ int count_flipped(const Eigen::MatrixXd& P, const Eigen::MatrixXi& F) {
 // local minima they lead to on the paper's meshes.
 constexpr int kStretchCandidates = 4;
 constexpr int kCandidateIterations = 50;
-
-double seconds_since(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
 
 // Rotation of the ARAP plate that the anisotropic stretch diag(s1, s2) fits best: the angle phi in
 // [0, pi) minimizing sum_f A_f min_T ||S_phi J_f - T||^2 over T with singular values (s1, s2), with
@@ -151,7 +147,7 @@ FlatPlate flatten(const Mesh& input, const FlattenOptions& options) {
 
   // Tutte on a circle of the target's area (the right scale for ARAP). The boundary loop has the
   // surface on its left and runs counter-clockwise, so every triangle starts positive.
-  auto start = std::chrono::steady_clock::now();
+  auto start = Clock::now();
   const Eigen::MatrixXd tutte =
       tutte_embedding(V, F, loops[0], std::sqrt(total_area / std::numbers::pi));
   add_step({"tutte", 1, seconds_since(start), true});
@@ -163,7 +159,7 @@ FlatPlate flatten(const Mesh& input, const FlattenOptions& options) {
                     name, options.max_iterations));
   };
 
-  start = std::chrono::steady_clock::now();
+  start = Clock::now();
   const LocalGlobal solver(F, frames, target.num_vertices());
   Eigen::MatrixXd P = tutte;
   const LocalGlobalStats arap =
@@ -176,7 +172,7 @@ FlatPlate flatten(const Mesh& input, const FlattenOptions& options) {
   // direction is not known beforehand (the reference uses the target's x axis, which a rotated
   // input would change). So several directions are tried for a few iterations each, and the one
   // with the lowest Eq. 11 energy is carried on to convergence.
-  start = std::chrono::steady_clock::now();
+  start = Clock::now();
   const double phi0 = best_stretch_angle(P, F, frames, s1, s2);
   Eigen::MatrixXd best;
   LocalGlobalStats best_stats;
@@ -219,7 +215,7 @@ FlatPlate flatten(const Mesh& input, const FlattenOptions& options) {
     P = tutte;
   }
   if (options.w_D > 0 || restart) {
-    start = std::chrono::steady_clock::now();
+    start = Clock::now();
     const SmoothingStats stats =
         smooth_directions(P, F, frames, dual_edges(V, F, frames), s1, s2, options.w_D,
                           options.newton_tolerance, options.max_newton_iterations);

@@ -4,11 +4,11 @@
 
 #include <Eigen/CholmodSupport>
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <limits>
 
 #include "common/error.h"
+#include "common/stopwatch.h"
 #include "mesh/operators.h"
 #include "numerics/newton.h"
 #include "plate/laminate.h"
@@ -17,12 +17,6 @@
 
 namespace flatmorph {
 namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double seconds_since(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
 
 // Everything that stays fixed while theta2 changes, in the frame of the target's central face
 // (first vertex at the origin, first edge along +x, face in the xy plane), where the 3-2-1
