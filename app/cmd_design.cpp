@@ -99,6 +99,8 @@ nlohmann::ordered_json metrics_json(const DesignMetrics& m) {
   j["theta2_dirichlet"] = m.theta2_dirichlet;
   j["optim_iterations"] = m.optim_iterations;
   j["optim_converged"] = m.optim_converged;
+  j["coarse_faces"] = m.coarse_faces;
+  j["first_pass_iterations"] = m.first_pass_iterations;
   return j;
 }
 
@@ -281,7 +283,9 @@ Command make_design_command(CLI::App& app, const GlobalOptions& global) {
       ->capture_default_str();
   sub->add_option("--side", o->side,
                   "Which side of the target is printed on top: auto (the side the plate naturally "
-                  "curls toward), normal-up or normal-down")
+                  "curls toward; when the curvature does not tell, both sides are designed one "
+                  "subdivision level coarser and the closer one is kept), normal-up or "
+                  "normal-down")
       ->capture_default_str();
   sub->add_flag("!--no-gcode", o->gcode, "Skip trajectories and G-code");
   sub->add_flag("--json", o->json,

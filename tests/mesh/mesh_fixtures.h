@@ -1,5 +1,7 @@
-// Small procedural meshes shared by the mesh tests.
+// Small procedural meshes shared by the tests.
 #pragma once
+
+#include <Eigen/Core>
 
 #include "mesh/mesh.h"
 
@@ -22,6 +24,35 @@ inline Mesh grid(int nx, int ny) {
     }
   }
   return m;
+}
+
+// A (nu x nv)-quad grid over parameters (u, v) in [0, 1]^2, mapped to 3D by `point` (returning an
+// Eigen::Vector3d), each quad split along alternating diagonals; faces are counter-clockwise in
+// (u, v).
+template <typename Point>
+Mesh grid_mesh(int nu, int nv, Point point) {
+  Mesh mesh;
+  mesh.V.resize((nu + 1) * (nv + 1), 3);
+  for (int j = 0; j <= nv; ++j) {
+    for (int i = 0; i <= nu; ++i) {
+      mesh.V.row(j * (nu + 1) + i) = point(double(i) / nu, double(j) / nv).transpose();
+    }
+  }
+  mesh.F.resize(2 * nu * nv, 3);
+  int f = 0;
+  for (int j = 0; j < nv; ++j) {
+    for (int i = 0; i < nu; ++i) {
+      const int a = j * (nu + 1) + i, b = a + 1, c = a + nu + 1, d = c + 1;
+      if ((i + j) % 2 == 0) {
+        mesh.F.row(f++) << a, b, d;
+        mesh.F.row(f++) << a, d, c;
+      } else {
+        mesh.F.row(f++) << a, b, c;
+        mesh.F.row(f++) << b, d, c;
+      }
+    }
+  }
+  return mesh;
 }
 
 }  // namespace flatmorph::testing

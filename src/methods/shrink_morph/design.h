@@ -51,6 +51,10 @@ struct DesignMetrics {
   double theta2_max_abs_rad = 0;
   double theta2_dirichlet = 0;  // θ2ᵀ L θ2 on the target (dimensionless)
   int optim_iterations = 0;
+  // The first pass one Loop step coarser (0 faces when the design level is the input's own):
+  // its faces and the chosen side's theta2 iterations.
+  int coarse_faces = 0;
+  int first_pass_iterations = 0;
   bool optim_converged = false;
 };
 

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "examples/examples.h"
+#include "mesh/mesh_fixtures.h"
 
 namespace flatmorph {
 namespace {
@@ -54,6 +55,67 @@ TEST(PrintedSideAgreement, ChangesSignWithTheSide) {
   EXPECT_LT(up, -0.2);
   EXPECT_GT(down, 0.2);
   EXPECT_NEAR(up, -down, 0.05);
+}
+
+// A Gaussian bump, 8 mm tall, over a 50 mm square: curved one way on top and the other way on its
+// flank, so the curvature does not tell which side to print on top.
+Mesh bump_grid(int n) {
+  return testing::grid_mesh(n, n, [](double u, double v) {
+    const double x = 50 * (u - 0.5), y = 50 * (v - 0.5);
+    return Eigen::Vector3d(x, y, 8 * std::exp(-(x * x + y * y) / (18 * 18)));
+  });
+}
+
+// When the curvature does not tell the side, both sides are designed one Loop step coarser and the
+// one with the lower objective is kept; its theta2 starts the design level unless zeros start
+// closer.
+TEST(DesignSide, DesignsBothSidesOneLevelCoarserAndKeepsTheLowerObjective) {
+  const Mesh target = bump_grid(12);  // 288 faces
+  DesignOptions options;
+  options.material = load_material("pla-paper");
+  options.width_mm = 50;
+  const double printed_thickness = options.layers * options.material.layer_height;
+  FlattenOptions flatten_options;
+  flatten_options.lambda1 = options.material.lambda1;
+  flatten_options.lambda2 = options.material.lambda2;
+  flatten_options.width_mm = options.width_mm;
+  ASSERT_LT(std::abs(printed_side_agreement(flatten(target, flatten_options), options.material,
+                                            printed_thickness)),
+            0.2)
+      << "the fixture must leave the side to the designs";
+
+  options.faces = 4 * target.num_faces();
+  const Design chosen = design_shrink_morph(target, "bump", options);
+  EXPECT_EQ(chosen.metrics.faces, 4 * target.num_faces());
+  EXPECT_EQ(chosen.metrics.coarse_faces, target.num_faces());
+
+  // The first pass is the design of the input's own tessellation with the side given.
+  options.faces = 1;
+  options.side = PrintedSide::kNormalUp;
+  const Design up = design_shrink_morph(target, "bump", options);
+  options.side = PrintedSide::kNormalDown;
+  const Design down = design_shrink_morph(target, "bump", options);
+  EXPECT_EQ(up.metrics.coarse_faces, 0);
+  const bool down_wins = down.optimization.objective < up.optimization.objective;
+  EXPECT_EQ(chosen.flipped, down_wins)
+      << "E up " << up.optimization.objective << ", down " << down.optimization.objective;
+  EXPECT_EQ(chosen.metrics.first_pass_iterations, (down_wins ? down : up).metrics.optim_iterations);
+
+  // The design level starts no farther than theta2 = 0 would, and ends closer than it started.
+  Theta2Problem problem;
+  problem.plate = chosen.flat.plate;
+  problem.F = chosen.flat.target.F;
+  problem.target = chosen.flat.target.V;
+  problem.theta1 = chosen.flat.theta1;
+  problem.material = options.material;
+  problem.printed_thickness = printed_thickness;
+  const double zeros_objective =
+      evaluate_theta2_objective(problem, Eigen::VectorXd::Zero(problem.plate.rows()),
+                                chosen.simulated)
+          .objective;
+  EXPECT_LE(chosen.optimization.initial_objective, zeros_objective);
+  EXPECT_LT(chosen.optimization.objective, chosen.optimization.initial_objective);
+  EXPECT_LT(chosen.metrics.dist_to_optim_avg_pct, chosen.metrics.dist_to_sim_avg_pct);
 }
 
 INSTANTIATE_TEST_SUITE_P(Examples, DesignExample,

@@ -11,6 +11,7 @@
 #include <random>
 
 #include "material/material.h"
+#include "mesh/mesh_fixtures.h"
 #include "methods/shrink_morph/flatten.h"
 #include "plate/laminate.h"
 #include "simulate/distance.h"
@@ -21,29 +22,10 @@ namespace {
 
 // A spherical cap of radius `radius` mm over an n x n grid of the square [-1, 1]^2 * half_width.
 Mesh cap_mesh(int n, double half_width, double radius) {
-  Mesh mesh;
-  mesh.V.resize((n + 1) * (n + 1), 3);
-  for (int j = 0; j <= n; ++j) {
-    for (int i = 0; i <= n; ++i) {
-      const double x = half_width * (2.0 * i / n - 1), y = half_width * (2.0 * j / n - 1);
-      mesh.V.row(j * (n + 1) + i) << x, y, std::sqrt(radius * radius - x * x - y * y) - radius;
-    }
-  }
-  mesh.F.resize(2 * n * n, 3);
-  int f = 0;
-  for (int j = 0; j < n; ++j) {
-    for (int i = 0; i < n; ++i) {
-      const int a = j * (n + 1) + i, b = a + 1, c = a + n + 1, d = c + 1;
-      if ((i + j) % 2 == 0) {
-        mesh.F.row(f++) << a, b, d;
-        mesh.F.row(f++) << a, d, c;
-      } else {
-        mesh.F.row(f++) << a, b, c;
-        mesh.F.row(f++) << b, d, c;
-      }
-    }
-  }
-  return mesh;
+  return testing::grid_mesh(n, n, [&](double u, double v) {
+    const double x = half_width * (2 * u - 1), y = half_width * (2 * v - 1);
+    return Eigen::Vector3d(x, y, std::sqrt(radius * radius - x * x - y * y) - radius);
+  });
 }
 
 Theta2Problem cap_problem(int n) {
