@@ -42,15 +42,20 @@ constexpr PaperModel kModels[] = {
     {"hat", 11008, 100, 0.1, true, 1.34, 9.31, 0.30, 1.18, 73},
 };
 
-void BM_DistToSim(benchmark::State& state) {
-  const PaperModel& model = kModels[state.range(0)];
+// The model's file in ../shared/meshes; empty (and the benchmark skipped) when it is missing.
+std::filesystem::path model_path(const PaperModel& model, benchmark::State& state) {
   state.SetLabel(model.name);
   const std::filesystem::path path =
       std::filesystem::path(FLATMORPH_SHARED_DIR) / "meshes" / (std::string(model.name) + ".obj");
-  if (!std::filesystem::exists(path)) {
-    state.SkipWithError("../shared/meshes is not beside the project");
-    return;
-  }
+  if (std::filesystem::exists(path)) return path;
+  state.SkipWithError("../shared/meshes is not beside the project");
+  return {};
+}
+
+void BM_DistToSim(benchmark::State& state) {
+  const PaperModel& model = kModels[state.range(0)];
+  const std::filesystem::path path = model_path(model, state);
+  if (path.empty()) return;
   const Material material = load_material("pla-paper");
   for (auto _ : state) {
     const Mesh mesh = loop_subdivide_to(read_mesh(path).mesh, model.faces).mesh;
@@ -88,13 +93,8 @@ BENCHMARK(BM_DistToSim)->DenseRange(0, 5)->Unit(benchmark::kSecond)->Iterations(
 // optimizing theta2, and the times, next to the paper's figures.
 void BM_Table1(benchmark::State& state) {
   const PaperModel& model = kModels[state.range(0)];
-  state.SetLabel(model.name);
-  const std::filesystem::path path =
-      std::filesystem::path(FLATMORPH_SHARED_DIR) / "meshes" / (std::string(model.name) + ".obj");
-  if (!std::filesystem::exists(path)) {
-    state.SkipWithError("../shared/meshes is not beside the project");
-    return;
-  }
+  const std::filesystem::path path = model_path(model, state);
+  if (path.empty()) return;
   DesignOptions options;
   options.material = load_material("pla-paper");
   options.width_mm = model.width_mm;

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <cmath>
 
 #include "mesh/mesh.h"
 
@@ -53,6 +54,21 @@ Mesh grid_mesh(int nu, int nv, Point point) {
     }
   }
   return mesh;
+}
+
+// The regular icosahedron with vertices (0, ±1, ±φ) and their cyclic permutations; closed,
+// outward normals.
+inline Mesh icosahedron() {
+  const double p = (1.0 + std::sqrt(5.0)) / 2.0;
+  Mesh m;
+  m.V.resize(12, 3);
+  m.V << -1, p, 0, 1, p, 0, -1, -p, 0, 1, -p, 0, 0, -1, p, 0, 1, p, 0, -1, -p, 0, 1, -p, p, 0, -1,
+      p, 0, 1, -p, 0, -1, -p, 0, 1;
+  m.F.resize(20, 3);
+  m.F << 0, 11, 5, 0, 5, 1, 0, 1, 7, 0, 7, 10, 0, 10, 11, 1, 5, 9, 5, 11, 4, 11, 10, 2, 10, 7, 6, 7,
+      1, 8, 3, 9, 4, 3, 4, 2, 3, 2, 6, 3, 6, 8, 3, 8, 9, 4, 9, 5, 2, 4, 11, 6, 2, 10, 8, 6, 7, 9, 8,
+      1;
+  return m;
 }
 
 }  // namespace flatmorph::testing

@@ -7,14 +7,15 @@
 #include <numbers>
 #include <random>
 
-#include "mesh/topology.h"
 #include "mesh/mesh_fixtures.h"
+#include "mesh/topology.h"
 #include "mesh/validate.h"
 
 namespace flatmorph {
 namespace {
 
 using testing::grid;
+using testing::icosahedron;
 
 // Unit disk in the z = 0 plane: a centre vertex and `rings` rings, ring j with 6 j vertices, the
 // rings zipped together by angle. Counter-clockwise seen from +z.
@@ -65,19 +66,6 @@ std::vector<bool> on_boundary(const Mesh& m) {
     for (int v : loop) result[v] = true;
   }
   return result;
-}
-
-Mesh icosahedron() {
-  const double p = (1.0 + std::sqrt(5.0)) / 2.0;
-  Mesh m;
-  m.V.resize(12, 3);
-  m.V << -1, p, 0, 1, p, 0, -1, -p, 0, 1, -p, 0, 0, -1, p, 0, 1, p, 0, -1, -p, 0, 1, -p, p, 0, -1,
-      p, 0, 1, -p, 0, -1, -p, 0, 1;
-  m.F.resize(20, 3);
-  m.F << 0, 11, 5, 0, 5, 1, 0, 1, 7, 0, 7, 10, 0, 10, 11, 1, 5, 9, 5, 11, 4, 11, 10, 2, 10, 7, 6, 7,
-      1, 8, 3, 9, 4, 3, 4, 2, 3, 2, 6, 3, 6, 8, 3, 8, 9, 4, 9, 5, 2, 4, 11, 6, 2, 10, 8, 6, 7, 9, 8,
-      1;
-  return m;
 }
 
 double max_row_sum_error(const Eigen::SparseMatrix<double>& S) {

@@ -10,13 +10,14 @@
 #include <numbers>
 #include <random>
 
-#include "mesh/topology.h"
 #include "mesh/mesh_fixtures.h"
+#include "mesh/topology.h"
 
 namespace flatmorph {
 namespace {
 
 using testing::grid;
+using testing::icosahedron;
 
 // The mesh without the listed faces (vertices kept).
 Mesh without_faces(const Mesh& m, std::vector<int> drop) {
@@ -59,19 +60,6 @@ Mesh octahedron() {
   m.V << 1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1;
   m.F.resize(8, 3);
   m.F << 0, 2, 4, 2, 1, 4, 1, 3, 4, 3, 0, 4, 2, 0, 5, 1, 2, 5, 3, 1, 5, 0, 3, 5;
-  return m;
-}
-
-Mesh icosahedron() {
-  const double p = (1.0 + std::sqrt(5.0)) / 2.0;
-  Mesh m;
-  m.V.resize(12, 3);
-  m.V << -1, p, 0, 1, p, 0, -1, -p, 0, 1, -p, 0, 0, -1, p, 0, 1, p, 0, -1, -p, 0, 1, -p, p, 0, -1,
-      p, 0, 1, -p, 0, -1, -p, 0, 1;
-  m.F.resize(20, 3);
-  m.F << 0, 11, 5, 0, 5, 1, 0, 1, 7, 0, 7, 10, 0, 10, 11, 1, 5, 9, 5, 11, 4, 11, 10, 2, 10, 7, 6, 7,
-      1, 8, 3, 9, 4, 3, 4, 2, 3, 2, 6, 3, 6, 8, 3, 8, 9, 4, 9, 5, 2, 4, 11, 6, 2, 10, 8, 6, 7, 9, 8,
-      1;
   return m;
 }
 

@@ -6,6 +6,8 @@
 #include <cmath>
 #include <vector>
 
+#include "../mesh/mesh_fixtures.h"
+
 namespace flatmorph::testing {
 
 struct TestPlate {
@@ -16,30 +18,10 @@ struct TestPlate {
 // A width x height rectangle centred at the origin, cells_x x cells_y cells, each cut along a
 // diagonal that alternates like a chequerboard (no preferred diagonal direction overall).
 inline TestPlate rectangle_plate(double width, double height, int cells_x, int cells_y) {
-  TestPlate p;
-  p.V.resize((cells_x + 1) * (cells_y + 1), 2);
-  auto id = [&](int i, int j) { return j * (cells_x + 1) + i; };
-  for (int j = 0; j <= cells_y; ++j) {
-    for (int i = 0; i <= cells_x; ++i) {
-      p.V.row(id(i, j)) << width * (double(i) / cells_x - 0.5),
-          height * (double(j) / cells_y - 0.5);
-    }
-  }
-  p.F.resize(2 * cells_x * cells_y, 3);
-  int f = 0;
-  for (int j = 0; j < cells_y; ++j) {
-    for (int i = 0; i < cells_x; ++i) {
-      const int a = id(i, j), b = id(i + 1, j), c = id(i + 1, j + 1), d = id(i, j + 1);
-      if ((i + j) % 2 == 0) {
-        p.F.row(f++) << a, b, c;
-        p.F.row(f++) << a, c, d;
-      } else {
-        p.F.row(f++) << a, b, d;
-        p.F.row(f++) << b, c, d;
-      }
-    }
-  }
-  return p;
+  const Mesh grid = grid_mesh(cells_x, cells_y, [&](double u, double v) {
+    return Eigen::Vector3d(width * (u - 0.5), height * (v - 0.5), 0.0);
+  });
+  return {grid.V.leftCols(2), grid.F};
 }
 
 // A disk of the given radius centred at the origin: vertex 0 at the centre, then `rings` rings,
