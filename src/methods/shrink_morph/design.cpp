@@ -111,9 +111,8 @@ Design design_shrink_morph(Mesh target, const std::string& source, const DesignO
   const double printed_thickness = options.layers * options.material.layer_height;
 
   // The design level is the repaired input Loop-subdivided to at least `faces` faces. When that
-  // takes at least one step, the level one step coarser (4 times fewer faces) is designed first:
-  // its theta2, carried to the design level by the subdivision matrix, is where the design level's
-  // optimization starts.
+  // takes at least one step, the level one step coarser (4 times fewer faces) is where both sides
+  // are designed if the curvature does not tell the printed side (the first pass below).
   auto t0 = Clock::now();
   const Mesh base = prepare_target(std::move(target), source, 1).mesh;
   Subdivision coarse = loop_subdivide_to(base, (options.faces + 3) / 4);

@@ -43,16 +43,17 @@ struct DesignMetrics {
   int vertices = 0;
   double t_prepare_s = 0;
   double t_param_s = 0;  // flattening
-  double t_sim_s = 0;    // the theta2 = 0 simulation
-  double t_optim_s = 0;  // theta2 optimization
+  double t_sim_s = 0;    // the design level's theta2 = 0 simulation
+  double t_optim_s = 0;  // theta2 optimization, the first pass included
   double t_traj_s = 0;   // trajectories (not part of the pipeline yet)
   double dist_to_sim_avg_pct = 0, dist_to_sim_max_pct = 0;
   double dist_to_optim_avg_pct = 0, dist_to_optim_max_pct = 0;
   double theta2_max_abs_rad = 0;
   double theta2_dirichlet = 0;  // θ2ᵀ L θ2 on the target (dimensionless)
   int optim_iterations = 0;
-  // The first pass one Loop step coarser (0 faces when the design level is the input's own):
-  // its faces and the chosen side's theta2 iterations.
+  // The first pass (both sides designed when the curvature does not tell the printed side): the
+  // faces of its level one Loop step coarser (0 when there is none and it ran on the design
+  // level) and the kept side's theta2 iterations there (0 when it did not run).
   int coarse_faces = 0;
   int first_pass_iterations = 0;
   bool optim_converged = false;
