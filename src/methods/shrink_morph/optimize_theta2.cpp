@@ -96,8 +96,8 @@ class Theta2Solver {
   const Eigen::VectorXd& target() const { return target_; }
 
   // The equilibrium for theta2 (per vertex) from `start` (in the frame).
-  NewtonResult forward(const Eigen::VectorXd& theta2, Eigen::VectorXd start,
-                       int max_iterations = -1, double tolerance_factor = 1.0) {
+  // Line-search trials pass `trial`: their own iteration cap and tolerance.
+  NewtonResult forward(const Eigen::VectorXd& theta2, Eigen::VectorXd start, bool trial = false) {
     const Eigen::VectorXd face_theta2 = face_average_ * theta2;
     std::vector<Eigen::Matrix2d> b_bar(b_bar_zero_.size());
     for (size_t f = 0; f < b_bar.size(); ++f) {
@@ -114,8 +114,8 @@ class Theta2Solver {
     newton.fixed_variables = frame_.fixed_variables;
     NewtonOptions newton_options;
     newton_options.max_iterations =
-        max_iterations >= 0 ? max_iterations : options_.forward.max_iterations;
-    newton_options.tolerance = newton_tolerance_ * tolerance_factor;
+        trial ? options_.max_trial_forward_iterations : options_.forward.max_iterations;
+    newton_options.tolerance = newton_tolerance_ * (trial ? options_.trial_tolerance_factor : 1.0);
     const auto t0 = Clock::now();
     NewtonResult r = newton_minimize(newton, start, newton_options, &workspace_);
     forward_seconds_ += seconds_since(t0);
@@ -330,9 +330,16 @@ Theta2Result optimize_theta2(const Theta2Problem& problem, const Eigen::VectorXd
     const Eigen::VectorXd dx = solver.sensitivity(direction);
     out.cg_seconds += seconds_since(t_cg);
     const double slope = g.dot(direction);
+    record.decrement = -0.5 * slope;
     if (!(slope < 0)) {
       out.converged = true;
       out.stop_reason = "no descent direction (stationary point)";
+      out.history.push_back(record);
+      break;
+    }
+    if (record.decrement < options.decrement_tolerance) {
+      out.converged = true;
+      out.stop_reason = "predicted decrease below tolerance";
       out.history.push_back(record);
       break;
     }
@@ -348,9 +355,7 @@ Theta2Result optimize_theta2(const Theta2Problem& problem, const Eigen::VectorXd
          ++k, step *= 0.5) {
       const Eigen::VectorXd trial_theta2 = theta2 + step * direction;
       // Warm start at the linear prediction x + s S Δθ.
-      const NewtonResult trial =
-          solver.forward(trial_theta2, x + step * dx, options.max_trial_forward_iterations,
-                         options.trial_tolerance_factor);
+      const NewtonResult trial = solver.forward(trial_theta2, x + step * dx, true);
       ++record.line_search_trials;
       record.forward_iterations += trial.iterations;
       if (!forward_ok(trial)) continue;

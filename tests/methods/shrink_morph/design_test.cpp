@@ -84,6 +84,9 @@ TEST(DesignSide, DesignsBothSidesOneLevelCoarserAndKeepsTheLowerObjective) {
             0.2)
       << "the fixture must leave the side to the designs";
 
+  // With the first pass's own trial length and stall threshold, its options are the design's.
+  options.optimize.max_trial_forward_iterations = 30;
+  options.optimize.min_step_rad = 0.03;
   options.faces = 4 * target.num_faces();
   const Design chosen = design_shrink_morph(target, "bump", options);
   EXPECT_EQ(chosen.metrics.faces, 4 * target.num_faces());

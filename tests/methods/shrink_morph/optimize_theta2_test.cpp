@@ -1,7 +1,8 @@
 // Tests of the theta2 inverse design (src/methods/shrink_morph/optimize_theta2.h): the mixed
 // derivative of the plate energy against finite differences of its gradient, the adjoint gradient
 // of Eq. 14 against central finite differences of the full objective (forward solves included),
-// and that the optimization lowers the distance to the target.
+// that the optimization lowers the distance to the target, and its stop on the Gauss–Newton
+// decrement.
 #include "methods/shrink_morph/optimize_theta2.h"
 
 #include <gtest/gtest.h>
@@ -118,6 +119,29 @@ TEST(OptimizeTheta2, LowersTheDistanceToTheTarget) {
   EXPECT_GT(r.iterations, 0);
   std::cout << "cap: " << before.mean_percent << " -> " << after.mean_percent << " % in "
             << r.iterations << " iterations (" << r.stop_reason << ")\n";
+}
+
+// The stop on the Gauss–Newton decrement: every iteration but the last predicted at least the
+// tolerance, the last less. The prediction is the model's: the model E + gᵀd + ½ dᵀ(Sᵀ2DS + R)d is
+// a sum of squares, so it cannot predict a decrease larger than E.
+TEST(OptimizeTheta2, StopsWhenTheGaussNewtonModelPredictsLessThanTheTolerance) {
+  const Theta2Problem problem = cap_problem(8);
+  OptimizeTheta2Options options;
+  options.relative_decrease = 0;
+  options.decrement_tolerance = 100;  // E starts at about 1300 on this cap
+  const Theta2Result r = optimize_theta2(problem, {}, options);
+  ASSERT_EQ(r.stop_reason, "predicted decrease below tolerance");
+  ASSERT_GE(r.history.size(), 2u);
+  EXPECT_LT(r.history.back().decrement, options.decrement_tolerance);
+  EXPECT_EQ(r.iterations + 1, static_cast<int>(r.history.size()));
+  for (size_t i = 0; i < r.history.size(); ++i) {
+    const Theta2Iteration& it = r.history[i];
+    if (i + 1 < r.history.size()) {
+      EXPECT_GE(it.decrement, options.decrement_tolerance) << i;
+    }
+    EXPECT_GT(it.decrement, 0) << i;
+    EXPECT_LE(it.decrement, it.objective) << i;
+  }
 }
 
 }  // namespace
