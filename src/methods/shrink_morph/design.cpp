@@ -84,8 +84,8 @@ SideDesign side_design(FlatPlate flat, const DesignOptions& options) {
   return out;
 }
 
-// The plate's equilibrium with theta2 = 0 ("Dist. to sim."), from `start` (#V x 3, mm).
-SimulationResult simulate_without_theta2(const Theta2Problem& problem, const Eigen::MatrixXd& start,
+// The plate's equilibrium with theta2 = 0, from the target ("Dist. to sim.").
+SimulationResult simulate_without_theta2(const Theta2Problem& problem,
                                          const SimulationOptions& options) {
   PlateProblem plate;
   plate.plate = problem.plate;
@@ -94,7 +94,7 @@ SimulationResult simulate_without_theta2(const Theta2Problem& problem, const Eig
       shrink_morph_rest_forms(problem.theta1, Eigen::VectorXd::Zero(problem.F.rows()),
                               problem.material, problem.printed_thickness);
   plate.stiffness = stiffness_of(problem.material);
-  return simulate(plate, start, options);
+  return simulate(plate, problem.target, options);
 }
 
 const char* side_name(bool normal_side_down) {
@@ -232,8 +232,7 @@ Design design_shrink_morph(Mesh target, const std::string& source, const DesignO
     // pass's theta2 = 0 equilibrium carried up (5 times faster on the paper's hat) lands the face
     // on another one (3.99 % / 10.1 % from the target instead of 2.64 % / 7.06 %).
     progress("simulate", "theta2 = 0, from the target");
-    const SimulationResult sim =
-        simulate_without_theta2(chosen.problem, chosen.problem.target, options.optimize.forward);
+    const SimulationResult sim = simulate_without_theta2(chosen.problem, options.optimize.forward);
     out.simulated = sim.V;
     m.t_sim_s = sim.seconds;
     // The first pass's theta2 can put the finer plate on another branch (the paper's hat lands
