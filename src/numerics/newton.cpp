@@ -1,12 +1,12 @@
 #include "numerics/newton.h"
 
-#include <Eigen/CholmodSupport>
 #include <algorithm>
 #include <cmath>
 
 #include <fmt/core.h>
 
 #include "common/stopwatch.h"
+#include "numerics/sparse_cholesky.h"
 
 namespace flatmorph {
 namespace {
@@ -123,11 +123,11 @@ struct NewtonWorkspace::State {
   std::vector<int> reduced_index;  // per variable: its index among the free ones, or -1
   std::vector<int> free_variables;
   std::unique_ptr<ReducedHessian> reduced;
-  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> solver;
+  SparseCholesky solver;
   bool analyzed = false;
   bool exact_at_result = false;
 
-  State() { solver.cholmod().print = 0; }  // a failed factorization is expected, not news
+  State() { configure_sparse_cholesky(solver); }
 
   void prepare(const NewtonProblem& problem) {
     std::vector<int> fixed = problem.fixed_variables;

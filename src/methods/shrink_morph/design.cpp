@@ -52,18 +52,6 @@ namespace {
 // With |agreement| below this, the curvature does not tell which side goes on top.
 constexpr double kClearAgreement = 0.2;
 
-// Newton iterations allowed to the first pass's line-search trials. There a trial costs a quarter
-// and may snap to another branch, which the design level's short trials (4) reject: the paper's hat
-// with its normal side up ends at 0.37 % / 1.58 % this way (avg / max; E = 3.3), against 0.82 % /
-// 5.62 % (E = 28) for the better side with 4 or 12; 150 gives the same as 30, slower.
-constexpr int kFirstPassTrialIterations = 30;
-
-// The first pass gives up on a side once its steps fall below this (max |Δθ2|, rad): it only has to
-// tell the sides apart, and halving 30-iteration trials down to the design level's 1e-3 cost the
-// paper's hat 9.9 s on its wrong side, against 4.5 s this way (E = 80 or 89 there, 3.6 on the side
-// kept).
-constexpr double kFirstPassMinStep = 0.03;
-
 // One printed side on one mesh level: its plate, the theta2 problem on it and, once optimized,
 // the result.
 struct SideDesign {
@@ -74,27 +62,10 @@ struct SideDesign {
 
 SideDesign side_design(FlatPlate flat, const DesignOptions& options) {
   SideDesign out;
+  out.problem =
+      theta2_problem(flat, options.material, options.layers * options.material.layer_height);
   out.flat = std::move(flat);
-  out.problem.plate = out.flat.plate;
-  out.problem.F = out.flat.target.F;
-  out.problem.target = out.flat.target.V;
-  out.problem.theta1 = out.flat.theta1;
-  out.problem.material = options.material;
-  out.problem.printed_thickness = options.layers * options.material.layer_height;
   return out;
-}
-
-// The plate's equilibrium with theta2 = 0, from the target ("Dist. to sim.").
-SimulationResult simulate_without_theta2(const Theta2Problem& problem,
-                                         const SimulationOptions& options) {
-  PlateProblem plate;
-  plate.plate = problem.plate;
-  plate.F = problem.F;
-  plate.rest_forms =
-      shrink_morph_rest_forms(problem.theta1, Eigen::VectorXd::Zero(problem.F.rows()),
-                              problem.material, problem.printed_thickness);
-  plate.stiffness = stiffness_of(problem.material);
-  return simulate(plate, problem.target, options);
 }
 
 const char* side_name(bool normal_side_down) {
@@ -158,7 +129,7 @@ Design design_shrink_morph(Mesh target, const std::string& source, const DesignO
   }
 
   const auto t_optim = Clock::now();
-  double t_not_optim = 0;  // flattening and the design level's theta2 = 0 simulation
+  double t_not_optim = 0;  // flattening
   auto flatten_level = [&](const Mesh& mesh, bool normal_side_down) {
     const auto t = Clock::now();
     FlatPlate flat;
@@ -178,9 +149,8 @@ Design design_shrink_morph(Mesh target, const std::string& source, const DesignO
 
   OptimizeTheta2Options first_pass = options.optimize;
   first_pass.progress = nullptr;
-  first_pass.max_trial_forward_iterations =
-      std::max(first_pass.max_trial_forward_iterations, kFirstPassTrialIterations);
-  first_pass.min_step_rad = std::max(first_pass.min_step_rad, kFirstPassMinStep);
+  first_pass.max_trial_forward_iterations = options.first_pass_trial_forward_iterations;
+  first_pass.min_step_rad = options.first_pass_min_step_rad;
   OptimizeTheta2Options design_pass = options.optimize;
   if (!design_pass.progress && options.progress) {
     design_pass.progress = [&](const Theta2Iteration& it) {
@@ -217,41 +187,52 @@ Design design_shrink_morph(Mesh target, const std::string& source, const DesignO
   }
 
   SideDesign chosen;
+  double t_report_sim = 0;  // a theta2 = 0 simulation the optimization does not use
   if (first && !has_coarse) {
-    chosen = std::move(*first);
+    chosen = std::move(*first);  // the first pass ran on the design level: it is the design
   } else {
     chosen = flatten_level(fine.mesh, flip);
+    bool carried_start = false;
+    if (first) {
+      // The first pass's theta2 and equilibrium, carried up by the subdivision, start the design
+      // level unless they land farther than zeros would: the plate is multistable, and the finer
+      // plate may settle on another branch. E is normalized by the area and the diagonal, so the
+      // first pass's E with theta2 = 0 stands for the design level's (the paper's hat: 229 there,
+      // 252 here, and 31 from the carried theta2); the carried one costs a single forward solve.
+      const Eigen::VectorXd carried = fine.S * first->optimization.theta2;
+      const Theta2Evaluation from_first =
+          evaluate_theta2_objective(chosen.problem, carried, fine.S * first->optimization.V,
+                                    first_pass, /*with_gradient=*/false);
+      const double zeros_objective = first->optimization.initial_objective;
+      carried_start = from_first.forward_converged && from_first.objective < zeros_objective;
+      progress("optimize theta2",
+               fmt::format("{} faces, from {} (E = {:.4g} from the first pass's theta2, {:.4g} "
+                           "from zeros on the first pass)",
+                           m.faces, carried_start ? "the first pass's theta2" : "zeros",
+                           from_first.objective, zeros_objective));
+      if (carried_start) {
+        chosen.problem.start = from_first.V;
+        chosen.optimization = optimize_theta2(chosen.problem, carried, design_pass);
+        // "Dist. to sim." from the target, as in the paper: starting from the first pass's
+        // theta2 = 0 equilibrium carried up (5 times faster on the paper's hat) lands the face on
+        // another equilibrium (3.99 % / 10.1 % from the target instead of 2.64 % / 7.06 %).
+        progress("simulate", "theta2 = 0, from the target (Dist. to sim.)");
+        const auto t = Clock::now();
+        out.simulated =
+            simulate(theta2_plate_problem(chosen.problem, Eigen::VectorXd::Zero(carried.size())),
+                     chosen.problem.target, options.optimize.forward)
+                .V;
+        t_report_sim = seconds_since(t);
+      }
+    }
+    if (!carried_start) chosen.optimization = optimize_theta2(chosen.problem, {}, design_pass);
   }
-  if (!first || !has_coarse) {
-    if (!first) chosen.optimization = optimize_theta2(chosen.problem, {}, design_pass);
-    // It started from zeros: its first equilibrium is the theta2 = 0 simulation.
+  if (out.simulated.size() == 0) {
+    // The optimization started from zeros: its first equilibrium is the theta2 = 0 simulation.
     out.simulated = chosen.optimization.initial_V;
     m.t_sim_s = chosen.optimization.initial_seconds;
   } else {
-    // From the target, as in the paper: the plate is multistable, and starting from the first
-    // pass's theta2 = 0 equilibrium carried up (5 times faster on the paper's hat) lands the face
-    // on another one (3.99 % / 10.1 % from the target instead of 2.64 % / 7.06 %).
-    progress("simulate", "theta2 = 0, from the target");
-    const SimulationResult sim = simulate_without_theta2(chosen.problem, options.optimize.forward);
-    out.simulated = sim.V;
-    m.t_sim_s = sim.seconds;
-    // The first pass's theta2 can put the finer plate on another branch (the paper's hat lands
-    // farther than with zeros): the optimization starts from whichever is closer. The first pass's
-    // equilibrium carried up starts the solve with its theta2.
-    const Eigen::VectorXd carried = fine.S * first->optimization.theta2;
-    const Eigen::VectorXd zeros = Eigen::VectorXd::Zero(carried.size());
-    const Theta2Evaluation from_first = evaluate_theta2_objective(
-        chosen.problem, carried, fine.S * first->optimization.V, first_pass);
-    const Theta2Evaluation from_zeros =
-        evaluate_theta2_objective(chosen.problem, zeros, sim.V, first_pass);
-    const bool carry = from_first.objective < from_zeros.objective;
-    progress("optimize theta2", fmt::format("{} faces, from {} (E = {:.4g}; {:.4g} from {})",
-                                            m.faces, carry ? "the first pass's theta2" : "zeros",
-                                            carry ? from_first.objective : from_zeros.objective,
-                                            carry ? from_zeros.objective : from_first.objective,
-                                            carry ? "zeros" : "the first pass's theta2"));
-    chosen.problem.start = carry ? from_first.V : from_zeros.V;
-    chosen.optimization = optimize_theta2(chosen.problem, carry ? carried : zeros, design_pass);
+    m.t_sim_s = t_report_sim;
   }
   out.flat = std::move(chosen.flat);
   out.flipped = flip;
@@ -261,7 +242,7 @@ Design design_shrink_morph(Mesh target, const std::string& source, const DesignO
   out.optimization = std::move(chosen.optimization);
   const Theta2Problem& problem = chosen.problem;
 
-  m.t_optim_s = seconds_since(t_optim) - t_not_optim - m.t_sim_s;
+  m.t_optim_s = seconds_since(t_optim) - t_not_optim - t_report_sim;
   out.optimized = out.optimization.V;
   out.theta2 = out.optimization.theta2;
   out.dist_to_sim = shape_distance(out.simulated, problem.target);

@@ -2,7 +2,6 @@
 
 #include <fmt/core.h>
 
-#include <Eigen/CholmodSupport>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -11,6 +10,7 @@
 #include "common/stopwatch.h"
 #include "mesh/operators.h"
 #include "numerics/newton.h"
+#include "numerics/sparse_cholesky.h"
 #include "plate/laminate.h"
 #include "simulate/plate_energy.h"
 #include "simulate/rigid_frame.h"
@@ -83,7 +83,7 @@ class Theta2Solver {
         if (is_fixed_[row] || is_fixed_[col]) fixed_entries_.push_back({k, row == col});
       }
     }
-    solver_.cholmod().print = 0;
+    configure_sparse_cholesky(solver_);
   }
 
   Eigen::VectorXd to_frame(const Eigen::MatrixXd& V) const {
@@ -226,7 +226,7 @@ class Theta2Solver {
   double area_ = 0, distance_weight_ = 0;
   Eigen::SparseMatrix<double> laplacian_, face_average_;
   Eigen::SparseMatrix<double> hessian_, sensitivity_rhs_, sensitivity_rhs_t_;
-  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> solver_;
+  SparseCholesky solver_;
   bool analyzed_ = false;
   NewtonWorkspace workspace_;
   Eigen::VectorXd forward_x_;  // the last forward solve's result
@@ -265,17 +265,41 @@ int conjugate_gradient(const Product& product, const Eigen::VectorXd& b, double 
 
 }  // namespace
 
+Theta2Problem theta2_problem(const FlatPlate& flat, const Material& material,
+                             double printed_thickness_mm) {
+  Theta2Problem problem;
+  problem.plate = flat.plate;
+  problem.F = flat.target.F;
+  problem.target = flat.target.V;
+  problem.theta1 = flat.theta1;
+  problem.material = material;
+  problem.printed_thickness = printed_thickness_mm;
+  return problem;
+}
+
+PlateProblem theta2_plate_problem(const Theta2Problem& problem, const Eigen::VectorXd& theta2) {
+  PlateProblem plate;
+  plate.plate = problem.plate;
+  plate.F = problem.F;
+  plate.rest_forms =
+      shrink_morph_rest_forms(problem.theta1, vertex_to_face_average(problem.F, theta2),
+                              problem.material, problem.printed_thickness);
+  plate.stiffness = stiffness_of(problem.material);
+  return plate;
+}
+
 Theta2Evaluation evaluate_theta2_objective(const Theta2Problem& problem,
                                            const Eigen::VectorXd& theta2,
                                            const Eigen::MatrixXd& start,
-                                           const OptimizeTheta2Options& options) {
+                                           const OptimizeTheta2Options& options,
+                                           bool with_gradient) {
   Theta2Solver solver(problem, options);
   const NewtonResult r = solver.forward(theta2, solver.to_frame(start));
   Theta2Evaluation out;
   out.forward_converged = forward_ok(r);
   out.objective = solver.objective_terms(r.x, theta2).sum();
   out.V = solver.from_frame(r.x);
-  if (solver.linearize(r.x)) out.gradient = solver.gradient(r.x, theta2);
+  if (with_gradient && solver.linearize(r.x)) out.gradient = solver.gradient(r.x, theta2);
   return out;
 }
 

@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "material/material.h"
+#include "methods/shrink_morph/flatten.h"
 #include "simulate/simulate.h"
 
 namespace flatmorph {
@@ -105,22 +106,32 @@ struct Theta2Result {
   int shifted_factorizations = 0;
 };
 
+// The problem of a flattened target (flatten.h) printed printed_thickness_mm thick.
+Theta2Problem theta2_problem(const FlatPlate& flat, const Material& material,
+                             double printed_thickness_mm);
+
+// The plate printed with theta2 (per vertex, rad; each face takes the mean of its corners, as the
+// optimization does), for simulate().
+PlateProblem theta2_plate_problem(const Theta2Problem& problem, const Eigen::VectorXd& theta2);
+
 // Minimizes E from theta2_start (per vertex, rad; empty means zeros), the first equilibrium solved
 // from the target. Throws UserError on inconsistent sizes or a bad plate.
 Theta2Result optimize_theta2(const Theta2Problem& problem, const Eigen::VectorXd& theta2_start,
                              const OptimizeTheta2Options& options = {});
 
-// E and its adjoint gradient (Eq. 14) at theta2 (per vertex, rad), the equilibrium solved from
-// `start` (#V x 3, mm; e.g. the target). For tests and diagnostics.
+// E at theta2 (per vertex, rad), the equilibrium solved from `start` (#V x 3, mm; e.g. the
+// target), and with `with_gradient` its adjoint gradient (Eq. 14; one more factorization of H and
+// a solve).
 struct Theta2Evaluation {
   double objective = 0;
-  Eigen::VectorXd gradient;
-  Eigen::MatrixXd V;  // the equilibrium, #V x 3, mm
+  Eigen::VectorXd gradient;  // empty without with_gradient or when H could not be factorized
+  Eigen::MatrixXd V;         // the equilibrium, #V x 3, mm
   bool forward_converged = false;
 };
 Theta2Evaluation evaluate_theta2_objective(const Theta2Problem& problem,
                                            const Eigen::VectorXd& theta2,
                                            const Eigen::MatrixXd& start,
-                                           const OptimizeTheta2Options& options = {});
+                                           const OptimizeTheta2Options& options = {},
+                                           bool with_gradient = true);
 
 }  // namespace flatmorph

@@ -85,8 +85,8 @@ TEST(DesignSide, DesignsBothSidesOneLevelCoarserAndKeepsTheLowerObjective) {
       << "the fixture must leave the side to the designs";
 
   // With the first pass's own trial length and stall threshold, its options are the design's.
-  options.optimize.max_trial_forward_iterations = 30;
-  options.optimize.min_step_rad = 0.03;
+  options.optimize.max_trial_forward_iterations = options.first_pass_trial_forward_iterations;
+  options.optimize.min_step_rad = options.first_pass_min_step_rad;
   options.faces = 4 * target.num_faces();
   const Design chosen = design_shrink_morph(target, "bump", options);
   EXPECT_EQ(chosen.metrics.faces, 4 * target.num_faces());
@@ -105,16 +105,10 @@ TEST(DesignSide, DesignsBothSidesOneLevelCoarserAndKeepsTheLowerObjective) {
   EXPECT_EQ(chosen.metrics.first_pass_iterations, (down_wins ? down : up).metrics.optim_iterations);
 
   // The design level starts no farther than theta2 = 0 would, and ends closer than it started.
-  Theta2Problem problem;
-  problem.plate = chosen.flat.plate;
-  problem.F = chosen.flat.target.F;
-  problem.target = chosen.flat.target.V;
-  problem.theta1 = chosen.flat.theta1;
-  problem.material = options.material;
-  problem.printed_thickness = printed_thickness;
+  const Theta2Problem problem = theta2_problem(chosen.flat, options.material, printed_thickness);
   const double zeros_objective =
       evaluate_theta2_objective(problem, Eigen::VectorXd::Zero(problem.plate.rows()),
-                                chosen.simulated)
+                                chosen.simulated, {}, /*with_gradient=*/false)
           .objective;
   EXPECT_LE(chosen.optimization.initial_objective, zeros_objective);
   EXPECT_LT(chosen.optimization.objective, chosen.optimization.initial_objective);

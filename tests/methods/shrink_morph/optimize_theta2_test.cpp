@@ -33,15 +33,8 @@ Theta2Problem cap_problem(int n) {
   const Mesh mesh = cap_mesh(n, 20, 60);
   FlattenOptions options;
   options.width_mm = 60;
-  const FlatPlate flat = flatten(mesh, options);
-  Theta2Problem problem;
-  problem.plate = flat.plate;
-  problem.F = flat.target.F;
-  problem.target = flat.target.V;
-  problem.theta1 = flat.theta1;
-  problem.material = load_material("pla-paper");
-  problem.printed_thickness = 10 * problem.material.layer_height;
-  return problem;
+  const Material material = load_material("pla-paper");
+  return theta2_problem(flatten(mesh, options), material, 10 * material.layer_height);
 }
 
 TEST(RestCurvatureMixedDerivative, MatchesFiniteDifferencesOfTheGradient) {

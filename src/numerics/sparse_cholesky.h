@@ -1,0 +1,20 @@
+// The sparse Cholesky factorization of the project's large SPD systems (plate Hessians, stripe
+// patterns): CHOLMOD's supernodal LLᵀ, whose dense blocks run on BLAS.
+#pragma once
+
+#include <Eigen/CholmodSupport>
+#include <Eigen/SparseCore>
+
+namespace flatmorph {
+
+using SparseCholesky = Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower>;
+
+// Quiet (a failed factorization is expected, not news: callers test info() and fall back), and with
+// the fill-reducing ordering chosen between AMD and METIS nested dissection by the fill it gives.
+// CHOLMOD's default tries METIS only when AMD's fill is very high; on the plate Hessians of the
+// paper's 11008-face hat METIS needs 30 % fewer flops (1.6 instead of 2.3 GFlop, 0.11 instead of
+// 0.13 s per factorization), while AMD stays better on the 2048-face saddle. The ordering is
+// computed once per sparsity pattern, so trying both costs one extra analysis.
+void configure_sparse_cholesky(SparseCholesky& solver);
+
+}  // namespace flatmorph
