@@ -154,13 +154,16 @@ Design design_shrink_morph(Mesh target, const std::string& source, const DesignO
   OptimizeTheta2Options design_pass = options.optimize;
   if (!design_pass.progress && options.progress) {
     design_pass.progress = [&](const Theta2Iteration& it) {
+      // The last record is the one whose prediction stopped the optimization: it takes no step.
       report_progress(
           options.progress,
           {"optimize theta2", it.iteration + 1, 0, it.objective,
-           fmt::format("predicted decrease {:.3g}, step {:.3g} ({} trials, {} Newton iterations), "
-                       "{} CG iterations",
-                       it.decrement, it.step, it.line_search_trials, it.forward_iterations,
-                       it.cg_iterations)});
+           it.line_search_trials == 0
+               ? fmt::format("predicted decrease {:.3g}: converged", it.decrement)
+               : fmt::format("predicted decrease {:.3g}, step {:.3g} ({} trials, {} Newton "
+                             "iterations), {} CG iterations",
+                             it.decrement, it.step, it.line_search_trials, it.forward_iterations,
+                             it.cg_iterations)});
     };
   }
 

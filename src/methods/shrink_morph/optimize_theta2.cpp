@@ -358,13 +358,17 @@ Theta2Result optimize_theta2(const Theta2Problem& problem, const Eigen::VectorXd
     if (!(slope < 0)) {
       out.converged = true;
       out.stop_reason = "no descent direction (stationary point)";
+      record.elapsed_seconds = seconds_since(t0);
       out.history.push_back(record);
+      if (options.progress) options.progress(record);
       break;
     }
     if (record.decrement < options.decrement_tolerance) {
       out.converged = true;
       out.stop_reason = "predicted decrease below tolerance";
+      record.elapsed_seconds = seconds_since(t0);
       out.history.push_back(record);
+      if (options.progress) options.progress(record);
       break;
     }
     // A step that turns some θ2 by more than max_step_rad leaves the range where the linear

@@ -80,7 +80,8 @@ struct OptimizeTheta2Options {
   // equilibrium): on large plates the tight one is below round-off and Newton crawls to the cap.
   double trial_tolerance_factor = 1e3;
   SimulationOptions forward;  // the equilibrium solves
-  // Called after every iteration (progress lines); may be empty.
+  // Called after every iteration, and with the record that stopped it (no line-search trial) when
+  // the optimization converges (progress lines); may be empty.
   std::function<void(const Theta2Iteration&)> progress;
 };
 

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <iostream>
 #include <random>
+#include <vector>
 
 #include "material/material.h"
 #include "mesh/mesh_fixtures.h"
@@ -122,8 +123,14 @@ TEST(OptimizeTheta2, StopsWhenTheGaussNewtonModelPredictsLessThanTheTolerance) {
   OptimizeTheta2Options options;
   options.relative_decrease = 0;
   options.decrement_tolerance = 100;  // E starts at about 1300 on this cap
+  std::vector<Theta2Iteration> reported;
+  options.progress = [&](const Theta2Iteration& it) { reported.push_back(it); };
   const Theta2Result r = optimize_theta2(problem, {}, options);
   ASSERT_EQ(r.stop_reason, "predicted decrease below tolerance");
+  // Progress sees every record, the stopping one (no trial) included.
+  ASSERT_EQ(reported.size(), r.history.size());
+  EXPECT_EQ(reported.back().decrement, r.history.back().decrement);
+  EXPECT_EQ(reported.back().line_search_trials, 0);
   ASSERT_GE(r.history.size(), 2u);
   EXPECT_LT(r.history.back().decrement, options.decrement_tolerance);
   EXPECT_EQ(r.iterations + 1, static_cast<int>(r.history.size()));
