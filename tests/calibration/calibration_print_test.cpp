@@ -12,6 +12,7 @@
 
 #include "common/error.h"
 #include "gcode/gcode_check.h"
+#include "gcode/gcode_expectations.h"
 #include "gcode/gcode_reader.h"
 
 namespace flatmorph {
@@ -118,19 +119,7 @@ void expect_sound_plate(const CalibrationPlan& plan, size_t p, const PrinterProf
         << k;
     for (const auto& e : read.layers[k].extrusions) ASSERT_NEAR(e.z, layer.z, 6e-4);
   }
-  EXPECT_TRUE(read.annotation_errors.empty()) << read.annotation_errors.front();
-
-  // On the reachable bed, below the top.
-  if (printer.bed_shape == BedShape::kCircular) {
-    EXPECT_LE(read.max_radius, printer.bed_size.x() / 2 + 1e-9);
-  } else {
-    EXPECT_GE(read.min_x, printer.axis_min.x());
-    EXPECT_LE(read.max_x, printer.axis_max.x());
-    EXPECT_GE(read.min_y, printer.axis_min.y());
-    EXPECT_LE(read.max_y, printer.axis_max.y());
-  }
-  EXPECT_LE(read.max_z, printer.max_height);
-  EXPECT_GE(read.min_z, 0);
+  testing::expect_annotated_and_within_printer(read, printer);
 
   // Each set at its own nozzle temperature: the target in effect at every layer of the set.
   // (The target in effect at the first extrusion of each layer.)
@@ -168,11 +157,7 @@ void expect_sound_plate(const CalibrationPlan& plan, size_t p, const PrinterProf
     boxes.push_back(b);
     tops.push_back(set.thickness());
   }
-  for (double t : read.nozzle_targets) EXPECT_LE(t, material.max_nozzle_temperature);
-  for (double t : read.bed_targets) EXPECT_LE(t, material.max_bed_temperature);
-  EXPECT_EQ(read.final_nozzle, 0);
-  EXPECT_EQ(read.final_bed, 0);
-  EXPECT_TRUE(read.motors_off_at_end);
+  testing::expect_within_limits_and_off_at_end(read, material);
   EXPECT_TRUE(read.mode_declared_before_extrusion);
   EXPECT_EQ(read.g0_with_e, 0);
   EXPECT_EQ(read.extrusions_while_retracted, 0);

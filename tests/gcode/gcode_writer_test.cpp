@@ -12,6 +12,7 @@
 
 #include "common/error.h"
 #include "gcode/gcode_check.h"
+#include "gcode_expectations.h"
 #include "gcode_fixtures.h"
 #include "gcode_reader.h"
 #include "test_support.h"
@@ -84,30 +85,14 @@ TEST_P(EveryPrinter, ReaderRecoversTheToolpath) {
           << "layer " << k << " segment " << i;
     }
   }
-  EXPECT_TRUE(read.annotation_errors.empty()) << read.annotation_errors.front();
-
-  // Every head position on the reachable bed and below the maximum height.
-  if (printer.bed_shape == BedShape::kCircular) {
-    EXPECT_LE(read.max_radius, printer.bed_size.x() / 2 + 1e-9);
-  } else {
-    EXPECT_GE(read.min_x, printer.axis_min.x());
-    EXPECT_LE(read.max_x, printer.axis_max.x());
-    EXPECT_GE(read.min_y, printer.axis_min.y());
-    EXPECT_LE(read.max_y, printer.axis_max.y());
-  }
-  EXPECT_LE(read.max_z, printer.max_height);
-  EXPECT_GE(read.min_z, 0);
+  testing::expect_annotated_and_within_printer(read, printer);
 
   // Temperatures as set by the material, none above its limits, all off at the end.
   EXPECT_NE(std::find(read.nozzle_targets.begin(), read.nozzle_targets.end(), 190.0),
             read.nozzle_targets.end());
   EXPECT_NE(std::find(read.bed_targets.begin(), read.bed_targets.end(), 55.0),
             read.bed_targets.end());
-  for (double t : read.nozzle_targets) EXPECT_LE(t, material.max_nozzle_temperature);
-  for (double t : read.bed_targets) EXPECT_LE(t, material.max_bed_temperature);
-  EXPECT_EQ(read.final_nozzle, 0);
-  EXPECT_EQ(read.final_bed, 0);
-  EXPECT_TRUE(read.motors_off_at_end);
+  testing::expect_within_limits_and_off_at_end(read, material);
 
   // E mode declared before extruding and as the profile says; no extrusion while travelling.
   EXPECT_TRUE(read.mode_declared_before_extrusion);
