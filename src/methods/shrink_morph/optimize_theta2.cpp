@@ -2,6 +2,9 @@
 
 #include <fmt/core.h>
 
+#include <Eigen/CholmodSupport>
+#include <Eigen/SparseCholesky>
+#include <Eigen/SparseLU>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -9,6 +12,7 @@
 #include "common/error.h"
 #include "common/stopwatch.h"
 #include "mesh/operators.h"
+#include "methods/shrink_morph/gauss_newton_step.h"
 #include "numerics/newton.h"
 #include "numerics/sparse_cholesky.h"
 #include "plate/laminate.h"
@@ -17,6 +21,23 @@
 
 namespace flatmorph {
 namespace {
+
+// Symbolic analysis, numeric factorization and solve of a, each timed into `out`.
+template <typename Solver>
+bool factorize_and_solve(Solver& solver, const Eigen::SparseMatrix<double>& a,
+                         const Eigen::VectorXd& b, Eigen::VectorXd& z, GaussNewtonStep& out) {
+  auto t0 = Clock::now();
+  solver.analyzePattern(a);
+  out.analysis_seconds = seconds_since(t0);
+  t0 = Clock::now();
+  solver.factorize(a);
+  out.factorization_seconds = seconds_since(t0);
+  if (solver.info() != Eigen::Success) return false;
+  t0 = Clock::now();
+  z = solver.solve(b);
+  out.solve_seconds = seconds_since(t0);
+  return solver.info() == Eigen::Success && z.allFinite();
+}
 
 // Everything that stays fixed while theta2 changes, in the frame of the target's central face
 // (first vertex at the origin, first edge along +x, face in the xy plane), where the 3-2-1
@@ -208,6 +229,166 @@ class Theta2Solver {
     for (int u = 0; u < nv_; ++u) dx.segment<3>(3 * u) *= 2 * distance_weight_ * mass_(u);
     for (int i : frame_.fixed_variables) dx(i) = 0;
     return -(sensitivity_rhs_t_ * solve(dx)) + regularizer_product(v);
+  }
+
+  // H at x with the fixed variables decoupled (lower triangle): linearize assembled it unless it
+  // reused the forward solve's factorization, which only gives solves.
+  Eigen::SparseMatrix<double> decoupled_hessian(const Eigen::VectorXd& x) const {
+    if (!use_forward_factorization_) return hessian_;
+    Eigen::VectorXd gradient;
+    Eigen::SparseMatrix<double> h;
+    evaluate_plate_energy(energy_, x, &gradient, &h, false);
+    double* values = h.valuePtr();
+    for (const auto& [k, diagonal] : fixed_entries_) values[k] = diagonal ? 1.0 : 0.0;
+    return h;
+  }
+
+  // The SGN KKT matrix of gauss_newton_step.h, both triangles, unknowns (Δx, Δθ, λ). A fixed
+  // coordinate's 2D entry is 1 instead of 0: its constraint row pins Δx_i = 0 whatever the entry
+  // is, and a 0 would leave the exact zero pivot of [0 1; 1 0] to the LDLᵀ solvers.
+  Eigen::SparseMatrix<double> kkt_matrix(const Eigen::SparseMatrix<double>& hessian) const {
+    const int n = 3 * nv_, theta = n, lambda = n + nv_;
+    std::vector<Eigen::Triplet<double>> t;
+    t.reserve(4 * hessian.nonZeros() + 2 * sensitivity_rhs_.nonZeros() + laplacian_.nonZeros() + n +
+              nv_);
+    for (int i = 0; i < n; ++i) {
+      t.emplace_back(i, i, is_fixed_[i] ? 1.0 : 2 * distance_weight_ * mass_(i / 3));
+    }
+    for (int col = 0; col < hessian.outerSize(); ++col) {
+      for (Eigen::SparseMatrix<double>::InnerIterator it(hessian, col); it; ++it) {
+        const int row = static_cast<int>(it.row());
+        t.emplace_back(row, lambda + col, it.value());
+        t.emplace_back(lambda + col, row, it.value());
+        if (row == col) continue;
+        t.emplace_back(col, lambda + row, it.value());
+        t.emplace_back(lambda + row, col, it.value());
+      }
+    }
+    for (int col = 0; col < sensitivity_rhs_.outerSize(); ++col) {
+      for (Eigen::SparseMatrix<double>::InnerIterator it(sensitivity_rhs_, col); it; ++it) {
+        t.emplace_back(lambda + it.row(), theta + col, it.value());
+        t.emplace_back(theta + col, lambda + it.row(), it.value());
+      }
+    }
+    for (int v = 0; v < nv_; ++v)
+      t.emplace_back(theta + v, theta + v, 2 * options_.w_M / area_ * mass_(v));
+    for (int col = 0; col < laplacian_.outerSize(); ++col) {
+      for (Eigen::SparseMatrix<double>::InnerIterator it(laplacian_, col); it; ++it) {
+        t.emplace_back(theta + it.row(), theta + col, 2 * options_.w_L * it.value());
+      }
+    }
+    Eigen::SparseMatrix<double> kkt(n + nv_ + n, n + nv_ + n);
+    kkt.setFromTriplets(t.begin(), t.end());
+    return kkt;
+  }
+
+  // The KKT unknowns grouped by vertex, x_v (3), θ_v, λ_v (3), the vertices in the AMD order of
+  // the KKT matrix's vertex graph; returns each unknown's new position. Ordered as scalars, the
+  // pairs (x_i, λ_i) are taken apart and the factor gets several times denser; grouped, λ_v's
+  // pivot (a zero diagonal) comes after x_v's (2D > 0), which fills it.
+  Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> kkt_vertex_order(
+      const Eigen::SparseMatrix<double>& kkt) const {
+    const int n = 3 * nv_;
+    auto vertex = [&](int i) { return i < n ? i / 3 : i < n + nv_ ? i - n : (i - n - nv_) / 3; };
+    std::vector<Eigen::Triplet<double>> t;
+    t.reserve(kkt.nonZeros());
+    for (int col = 0; col < kkt.outerSize(); ++col) {
+      for (Eigen::SparseMatrix<double>::InnerIterator it(kkt, col); it; ++it) {
+        t.emplace_back(vertex(static_cast<int>(it.row())), vertex(col), 1.0);
+      }
+    }
+    Eigen::SparseMatrix<double> graph(nv_, nv_);
+    graph.setFromTriplets(t.begin(), t.end());
+    Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> by_vertex;  // new -> old vertex
+    Eigen::AMDOrdering<int>()(graph, by_vertex);
+    Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> position(n + nv_ + n);
+    for (int k = 0; k < nv_; ++k) {
+      const int v = by_vertex.indices()(k);
+      for (int c = 0; c < 3; ++c) {
+        position.indices()(3 * v + c) = 7 * k + c;
+        position.indices()(n + nv_ + 3 * v + c) = 7 * k + 4 + c;
+      }
+      position.indices()(n + v) = 7 * k + 3;
+    }
+    return position;
+  }
+
+  // The Gauss–Newton step by the KKT system (after linearize at the equilibrium x): fills the
+  // step's direction, dx, sizes and timings; false when the factorization fails. H is the exact
+  // one even when linearize had to shift its factorization.
+  bool kkt_step(const Eigen::VectorXd& x, const Eigen::VectorXd& theta2, KktSolver kind,
+                GaussNewtonStep& out) const {
+    const int n = 3 * nv_;
+    auto t0 = Clock::now();
+    const Eigen::SparseMatrix<double> kkt = kkt_matrix(decoupled_hessian(x));
+    // Stationarity of the model in Δx and Δθ (first two rows), linearized equilibrium (last).
+    Eigen::VectorXd rhs = Eigen::VectorXd::Zero(kkt.rows());
+    rhs.head(n) = -distance_gradient(x);
+    rhs.segment(n, nv_) = -regularizer_product(theta2);
+    out.assembly_seconds = seconds_since(t0);
+    out.kkt_rows = static_cast<int>(kkt.rows());
+    out.kkt_nonzeros = kkt.nonZeros();
+    const bool by_vertex =
+        kind == KktSolver::kSimplicialLDLTByVertex || kind == KktSolver::kCholmodLDLTByVertex;
+    Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> position;
+    Eigen::SparseMatrix<double> permuted;
+    Eigen::VectorXd permuted_rhs;
+    double ordering_seconds = 0;
+    if (by_vertex) {
+      t0 = Clock::now();
+      position = kkt_vertex_order(kkt);
+      permuted = position * kkt * position.transpose();
+      permuted_rhs = position * rhs;
+      ordering_seconds = seconds_since(t0);
+    }
+    Eigen::VectorXd z;
+    auto run = [&](auto& solver) {
+      return by_vertex ? factorize_and_solve(solver, permuted, permuted_rhs, z, out)
+                       : factorize_and_solve(solver, kkt, rhs, z, out);
+    };
+    bool ok = false;
+    switch (kind) {
+      case KktSolver::kSparseLU: {
+        Eigen::SparseLU<Eigen::SparseMatrix<double>, Eigen::COLAMDOrdering<int>> lu;
+        ok = run(lu);
+        if (ok) out.factor_nonzeros = lu.nnzL() + lu.nnzU();
+        break;
+      }
+      case KktSolver::kSimplicialLDLT: {
+        Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower> ldlt;
+        ok = run(ldlt);
+        if (ok) out.factor_nonzeros = ldlt.matrixL().nestedExpression().nonZeros();
+        break;
+      }
+      case KktSolver::kSimplicialLDLTByVertex: {
+        Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower,
+                              Eigen::NaturalOrdering<int>>
+            ldlt;
+        ok = run(ldlt);
+        if (ok) out.factor_nonzeros = ldlt.matrixL().nestedExpression().nonZeros();
+        break;
+      }
+      case KktSolver::kCholmodLDLT:
+      case KktSolver::kCholmodLDLTByVertex: {
+        Eigen::CholmodSimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower> ldlt;
+        ldlt.cholmod().print = 0;
+        if (by_vertex) {
+          ldlt.cholmod().nmethods = 1;
+          ldlt.cholmod().method[0].ordering = CHOLMOD_NATURAL;
+        }
+        ok = run(ldlt);
+        if (ok) out.factor_nonzeros = static_cast<long>(ldlt.cholmod().lnz);
+        break;
+      }
+    }
+    out.analysis_seconds += ordering_seconds;
+    if (ok && by_vertex) z = position.transpose() * z;
+    out.seconds =
+        out.assembly_seconds + out.analysis_seconds + out.factorization_seconds + out.solve_seconds;
+    if (!ok) return false;
+    out.dx = z.head(n);
+    out.direction = z.segment(n, nv_);
+    return true;
   }
 
   double forward_seconds() const { return forward_seconds_; }
@@ -430,6 +611,41 @@ Theta2Result optimize_theta2(const Theta2Problem& problem, const Eigen::VectorXd
   out.forward_seconds = solver.forward_seconds();
   out.shifted_factorizations = solver.shifted_factorizations();
   out.seconds = seconds_since(t0);
+  return out;
+}
+
+GaussNewtonStep theta2_gauss_newton_step(const Theta2Problem& problem,
+                                         const Eigen::VectorXd& theta2, GaussNewtonSystem system,
+                                         const OptimizeTheta2Options& options,
+                                         KktSolver kkt_solver) {
+  Theta2Solver solver(problem, options);
+  if (theta2.size() != problem.plate.rows()) {
+    throw UserError(ErrorCategory::kOption,
+                    fmt::format("theta2 has {} values for {} vertices: give one per vertex",
+                                theta2.size(), problem.plate.rows()));
+  }
+  const NewtonResult r = solver.forward(
+      theta2, problem.start.size() ? solver.to_frame(problem.start) : solver.target());
+  GaussNewtonStep out;
+  out.forward_converged = forward_ok(r);
+  if (!solver.linearize(r.x)) return out;
+  out.gradient = solver.gradient(r.x, theta2);
+  if (system == GaussNewtonSystem::kReducedCG) {
+    const auto t0 = Clock::now();
+    out.cg_iterations = conjugate_gradient(
+        [&](const Eigen::VectorXd& v) { return solver.gauss_newton_product(v); }, -out.gradient,
+        options.cg_tolerance, options.max_cg_iterations, out.direction);
+    // optimize_theta2 needs S Δθ too (the line search's warm start); the KKT system gives it.
+    out.dx = solver.sensitivity(out.direction);
+    out.seconds = out.solve_seconds = seconds_since(t0);
+    out.solved = true;
+  } else {
+    out.solved = solver.kkt_step(r.x, theta2, kkt_solver, out);
+  }
+  if (out.solved) {
+    out.reduced_residual =
+        (solver.gauss_newton_product(out.direction) + out.gradient).norm() / out.gradient.norm();
+  }
   return out;
 }
 

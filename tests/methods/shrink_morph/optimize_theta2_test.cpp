@@ -1,8 +1,8 @@
 // Tests of the theta2 inverse design (src/methods/shrink_morph/optimize_theta2.h): the mixed
 // derivative of the plate energy against finite differences of its gradient, the adjoint gradient
 // of Eq. 14 against central finite differences of the full objective (forward solves included),
-// that the optimization lowers the distance to the target, and its stop on the Gauss–Newton
-// decrement.
+// that the optimization lowers the distance to the target, its stop on the Gauss–Newton
+// decrement, and that the SGN KKT system gives the reduced system's step.
 #include "methods/shrink_morph/optimize_theta2.h"
 
 #include <gtest/gtest.h>
@@ -15,6 +15,7 @@
 #include "material/material.h"
 #include "mesh/mesh_fixtures.h"
 #include "methods/shrink_morph/flatten.h"
+#include "methods/shrink_morph/gauss_newton_step.h"
 #include "plate/laminate.h"
 #include "simulate/distance.h"
 #include "simulate/plate_energy.h"
@@ -141,6 +142,39 @@ TEST(OptimizeTheta2, StopsWhenTheGaussNewtonModelPredictsLessThanTheTolerance) {
     }
     EXPECT_GT(it.decrement, 0) << i;
     EXPECT_LE(it.decrement, it.objective) << i;
+  }
+}
+
+// The SGN KKT system and the reduced system are the same Gauss–Newton model (gauss_newton_step.h):
+// at a nonzero theta2, the KKT Δθ must equal the reduced one solved to a tight tolerance, its Δx
+// must be S Δθ, and the step must descend.
+TEST(Theta2GaussNewtonStep, KktSystemMatchesTheReducedSystem) {
+  const Theta2Problem problem = cap_problem(6);
+  const int nv = static_cast<int>(problem.plate.rows());
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> uniform(-0.3, 0.3);
+  Eigen::VectorXd theta2(nv);
+  for (int v = 0; v < nv; ++v) theta2(v) = uniform(rng);
+  OptimizeTheta2Options options;
+  options.cg_tolerance = 1e-10;
+  options.max_cg_iterations = 10000;
+  const GaussNewtonStep reduced =
+      theta2_gauss_newton_step(problem, theta2, GaussNewtonSystem::kReducedCG, options);
+  ASSERT_TRUE(reduced.forward_converged);
+  ASSERT_TRUE(reduced.solved);
+  EXPECT_LT(reduced.reduced_residual, 1e-9);
+  ASSERT_GT(reduced.direction.norm(), 1e-6);
+  for (KktSolver kind : {KktSolver::kSparseLU, KktSolver::kSimplicialLDLT, KktSolver::kCholmodLDLT,
+                         KktSolver::kSimplicialLDLTByVertex, KktSolver::kCholmodLDLTByVertex}) {
+    const GaussNewtonStep kkt =
+        theta2_gauss_newton_step(problem, theta2, GaussNewtonSystem::kKKT, options, kind);
+    const int k = static_cast<int>(kind);
+    ASSERT_TRUE(kkt.solved) << k;
+    EXPECT_EQ(kkt.kkt_rows, 7 * nv);
+    EXPECT_LT((kkt.direction - reduced.direction).norm(), 1e-6 * reduced.direction.norm()) << k;
+    EXPECT_LT((kkt.dx - reduced.dx).norm(), 1e-6 * reduced.dx.norm()) << k;
+    EXPECT_LT(kkt.gradient.dot(kkt.direction), 0) << k;
+    EXPECT_LT(kkt.reduced_residual, 1e-6) << k;
   }
 }
 
