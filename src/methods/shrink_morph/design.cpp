@@ -3,7 +3,6 @@
 #include <fmt/core.h>
 
 #include <Eigen/LU>
-#include <algorithm>
 #include <cmath>
 #include <optional>
 
@@ -201,7 +200,7 @@ Design design_shrink_morph(Mesh target, const std::string& source, const DesignO
       // level unless they land farther than zeros would: the plate is multistable, and the finer
       // plate may settle on another branch. E is normalized by the area and the diagonal, so the
       // first pass's E with theta2 = 0 stands for the design level's (the paper's hat: 229 there,
-      // 252 here, and 31 from the carried theta2); the carried one costs a single forward solve.
+      // 252 here, and 32 from the carried theta2); the carried one costs a single forward solve.
       const Eigen::VectorXd carried = fine.S * first->optimization.theta2;
       const Theta2Evaluation from_first =
           evaluate_theta2_objective(chosen.problem, carried, fine.S * first->optimization.V,

@@ -67,8 +67,8 @@ Mesh bump_grid(int n) {
 }
 
 // When the curvature does not tell the side, both sides are designed one Loop step coarser and the
-// one with the lower objective is kept; its theta2 starts the design level unless zeros start
-// closer.
+// one with the lower objective is kept; its theta2 starts the design level unless it starts there
+// higher than zeros did on the coarser level.
 TEST(DesignSide, DesignsBothSidesOneLevelCoarserAndKeepsTheLowerObjective) {
   const Mesh target = bump_grid(12);  // 288 faces
   DesignOptions options;
