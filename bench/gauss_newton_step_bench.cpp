@@ -81,12 +81,7 @@ const Prepared* prepare(const StepModel& model, benchmark::State& state) {
   flatten_options.flip = model.flip;
   const FlatPlate flat = flatten(mesh, flatten_options);
   Prepared p;
-  p.problem.plate = flat.plate;
-  p.problem.F = flat.target.F;
-  p.problem.target = flat.target.V;
-  p.problem.theta1 = flat.theta1;
-  p.problem.material = material;
-  p.problem.printed_thickness = 10 * material.layer_height;
+  p.problem = theta2_problem(flat, material, 10 * material.layer_height);
   OptimizeTheta2Options two;
   two.max_iterations = 2;
   const Theta2Result r = optimize_theta2(p.problem, {}, two);
