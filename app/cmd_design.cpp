@@ -181,6 +181,7 @@ int run_design(DesignCliOptions& o, const GlobalOptions& global) {
   j["side"] = o.side;
   j["normal_side_down"] = design.flipped;
   j["side_agreement"] = design.side_agreement;
+  j["stretch_candidate"] = design.flat.stretch_candidate;
   j["material"] = {{"name", material.name},
                    {"lambda1", material.lambda1},
                    {"lambda2", material.lambda2},

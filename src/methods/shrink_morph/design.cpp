@@ -51,6 +51,51 @@ namespace {
 // With |agreement| below this, the curvature does not tell which side goes on top.
 constexpr double kClearAgreement = 0.2;
 
+bool clear_for(PrintedSide side, double agreement) {
+  switch (side) {
+    case PrintedSide::kNormalUp:
+      return agreement >= kClearAgreement;
+    case PrintedSide::kNormalDown:
+      return agreement <= -kClearAgreement;
+    case PrintedSide::kAutomatic:
+      break;
+  }
+  return std::abs(agreement) >= kClearAgreement;
+}
+
+}  // namespace
+
+StretchChoice choose_initial_stretch(const Mesh& target, const FlattenOptions& options,
+                                     const Material& material, double printed_thickness_mm,
+                                     PrintedSide side) {
+  FlattenOptions up = options;
+  up.flip = false;
+  up.stretch_candidate = -1;
+  StretchChoice choice;
+  choice.plate = flatten(target, up);
+  choice.agreement = printed_side_agreement(choice.plate, material, printed_thickness_mm);
+  choice.lowest_energy_agreement = choice.agreement;
+  choice.clear = clear_for(side, choice.agreement);
+  if (choice.clear) return choice;
+  choice.searched = true;
+  for (int k = 0; k < kStretchCandidates; ++k) {
+    if (k == choice.plate.stretch_candidate) continue;
+    up.stretch_candidate = k;
+    FlatPlate candidate = flatten(target, up);
+    const double agreement = printed_side_agreement(candidate, material, printed_thickness_mm);
+    if (clear_for(side, agreement) &&
+        (!choice.clear ||
+         candidate.feasibility.mean_deviation < choice.plate.feasibility.mean_deviation)) {
+      choice.plate = std::move(candidate);
+      choice.agreement = agreement;
+      choice.clear = true;
+    }
+  }
+  return choice;
+}
+
+namespace {
+
 // One printed side on one mesh level: its plate, the theta2 problem on it and, once optimized,
 // the result.
 struct SideDesign {
@@ -115,17 +160,29 @@ Design design_shrink_morph(Mesh target, const std::string& source, const DesignO
   // agrees with one side, that side goes on top.
   bool flip = options.side == PrintedSide::kNormalDown;
   bool side_known = options.side != PrintedSide::kAutomatic;
-  std::optional<FlatPlate> probe;  // the first level, normal side up, flattened for the agreement
-  if (!side_known) {
-    t0 = Clock::now();
-    probe = flatten(first_level, flatten_options);
-    const double agreement = printed_side_agreement(*probe, options.material, printed_thickness);
-    m.t_param_s += seconds_since(t0);
-    if (std::abs(agreement) >= kClearAgreement) {
-      flip = agreement < 0;  // flipping mirrors the plate and negates the agreement
+  t0 = Clock::now();
+  StretchChoice stretch = choose_initial_stretch(first_level, flatten_options, options.material,
+                                                 printed_thickness, options.side);
+  m.t_param_s += seconds_since(t0);
+  if (stretch.searched) {
+    progress("flatten",
+             stretch.clear
+                 ? fmt::format("initial stretch {}: curvature agreement {:.2f} (the lowest-energy "
+                               "stretch's is {:.2f})",
+                               stretch.plate.stretch_candidate, stretch.agreement,
+                               stretch.lowest_energy_agreement)
+                 : fmt::format("no initial stretch agrees clearly with the target's curvature "
+                               "(the lowest-energy one: {:.2f})",
+                               stretch.agreement));
+  }
+  if (stretch.clear) {
+    flatten_options.stretch_candidate = stretch.plate.stretch_candidate;
+    if (!side_known) {
+      flip = stretch.agreement < 0;  // flipping mirrors the plate and negates the agreement
       side_known = true;
     }
   }
+  std::optional<FlatPlate> probe = std::move(stretch.plate);  // the first level, normal side up
 
   const auto t_optim = Clock::now();
   double t_not_optim = 0;  // flattening

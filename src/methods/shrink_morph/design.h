@@ -92,6 +92,27 @@ struct Design {
 double printed_side_agreement(const FlatPlate& flat, const Material& material,
                               double printed_thickness_mm);
 
+// Which initial stretch the flattening starts from (FlattenOptions::stretch_candidate). The plate
+// curls along its print direction with theta2 = 0, and theta2 only adds a twist: b̄ along theta1
+// does not depend on it (Eq. 17). So the print directions should run where the target bends the
+// way the plate does. The lowest-energy stretch is kept when its printed_side_agreement is clear
+// for `side` (at least 0.2 in magnitude when automatic, with the side's sign when forced); else the
+// lowest-energy stretch (Eq. 11 mean deviation, converged) among those whose agreement is clear;
+// else the lowest-energy one. The paper's top (a shirt) shows why: the lowest-energy plate runs its
+// paths along the two long flaps (agreement 0.02), which then curl whatever theta2 is (6.3 % /
+// 30 % from the target, avg / max); the plate whose paths run across them (agreement 0.32,
+// singular values 0.76 % off instead of 0.51 %) ends at 0.18 % / 2.84 %.
+struct StretchChoice {
+  FlatPlate plate;       // normal side up (options.flip is ignored; flipping negates the agreement)
+  double agreement = 0;  // printed_side_agreement of `plate`
+  double lowest_energy_agreement = 0;  // ... of the lowest-energy stretch
+  bool clear = false;                  // `agreement` is clear for the side
+  bool searched = false;               // the other stretches were tried
+};
+StretchChoice choose_initial_stretch(const Mesh& target, const FlattenOptions& options,
+                                     const Material& material, double printed_thickness_mm,
+                                     PrintedSide side);
+
 // Runs the pipeline on a target surface (any units; the plate is options.width_mm wide). `source`
 // names the input in error messages. Throws UserError for bad options or a target that is not a
 // disk.

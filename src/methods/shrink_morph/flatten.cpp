@@ -33,6 +33,9 @@ void check_options(const FlattenOptions& o) {
   require_option(
       std::isfinite(o.width_mm) && o.width_mm > 0,
       fmt::format("--width {}: the plate width must be a positive number of mm", o.width_mm));
+  require_option(o.stretch_candidate >= -1 && o.stretch_candidate < kStretchCandidates,
+                 fmt::format("flatten: stretch candidate {} must be -1 (automatic) or 0 to {}",
+                             o.stretch_candidate, kStretchCandidates - 1));
   require_option(std::isfinite(o.w_D) && o.w_D >= 0,
                  fmt::format("--wD {}: the smoothing weight must be 0 (none) or positive", o.w_D));
   require_option(std::isfinite(o.tolerance) && o.tolerance > 0 && o.max_iterations >= 1 &&
@@ -58,7 +61,6 @@ int count_flipped(const Eigen::MatrixXd& P, const Eigen::MatrixXi& F) {
 // Directions tried for the initial stretch (evenly spread over the half turn), and how many
 // local/global iterations each gets before the best is chosen: enough for the energies to rank the
 // local minima they lead to on the paper's meshes.
-constexpr int kStretchCandidates = 4;
 constexpr int kCandidateIterations = 50;
 
 // Rotation of the ARAP plate that the anisotropic stretch diag(s1, s2) fits best: the angle phi in
@@ -174,11 +176,14 @@ FlatPlate flatten(const Mesh& input, const FlattenOptions& options) {
   // with the lowest Eq. 11 energy is carried on to convergence.
   start = Clock::now();
   const double phi0 = best_stretch_angle(P, F, frames, s1, s2);
+  const bool chosen = options.stretch_candidate >= 0;
   Eigen::MatrixXd best;
   LocalGlobalStats best_stats;
   int anisotropic_iterations = 0;
-  for (int k = 0; k < kStretchCandidates; ++k) {
-    const double phi = phi0 + std::numbers::pi * k / kStretchCandidates;
+  for (int k = chosen ? options.stretch_candidate : 0;
+       k < (chosen ? options.stretch_candidate + 1 : kStretchCandidates); ++k) {
+    // Clockwise on a flipped target, whose ARAP plate is the mirror image.
+    const double phi = phi0 + (options.flip ? -1 : 1) * std::numbers::pi * k / kStretchCandidates;
     Eigen::MatrixXd candidate = P * Eigen::Rotation2Dd(phi).toRotationMatrix();  // rows by -phi
     candidate.col(0) *= s1;
     candidate.col(1) *= s2;
@@ -189,6 +194,7 @@ FlatPlate flatten(const Mesh& input, const FlattenOptions& options) {
     if (best.size() == 0 || stats.energy < best_stats.energy) {
       best = std::move(candidate);
       best_stats = stats;
+      result.stretch_candidate = k;
     }
   }
   P = std::move(best);

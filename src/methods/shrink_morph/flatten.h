@@ -14,6 +14,9 @@
 
 namespace flatmorph {
 
+// How many initial stretch directions flatten() can start Eq. 11 from (FlattenOptions).
+inline constexpr int kStretchCandidates = 4;
+
 struct FlattenOptions {
   // Shrink ratios after heating (new length / printed length), dimensionless.
   double lambda1 = 0.58;  // along the print path
@@ -27,6 +30,12 @@ struct FlattenOptions {
   // false: the side the target's face normals point to (right-hand rule) is the top of the plate,
   // away from the bed. true: that side is printed down (the face orientation is reversed first).
   bool flip = false;
+  // Which direction of the ARAP plate gets the stretch 1/lambda1 that starts Eq. 11, and so which
+  // local minimum the iterations reach (docs/flatten.md): candidate k in [0, kStretchCandidates)
+  // is phi0 + k pi/4, phi0 the best single direction for the ARAP plate (phi0 - k pi/4 with `flip`,
+  // so that candidate k of the flipped target is the mirror image of candidate k). -1 (default):
+  // the candidate with the lowest Eq. 11 energy after a few iterations.
+  int stretch_candidate = -1;
   // The anisotropic local/global iterations stop when the area-weighted RMS change of the
   // singular values between two iterations is below `tolerance` times their area-weighted RMS
   // distance to (1/lambda1, 1/lambda2) (so a target that can be met exactly is iterated until it
@@ -72,6 +81,7 @@ struct FlatPlate {
   Eigen::VectorXd sv_deviation;     // #F, the relative deviation of ShrinkFeasibility
   ShrinkFeasibility feasibility;
   double direction_dirichlet = 0;  // direction_dirichlet_energy of theta1 (dimensionless)
+  int stretch_candidate = 0;       // the initial stretch direction used (FlattenOptions)
   std::vector<FlattenStep> steps;
   std::vector<std::string> warnings;  // e.g. an iteration cap that was hit
 };

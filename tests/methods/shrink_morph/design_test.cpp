@@ -4,10 +4,15 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <string>
 
 #include "examples/examples.h"
+#include "mesh/io.h"
 #include "mesh/mesh_fixtures.h"
+#include "mesh/subdivide.h"
+#include "mesh/validate.h"
+#include "test_support.h"
 
 namespace flatmorph {
 namespace {
@@ -55,6 +60,58 @@ TEST(PrintedSideAgreement, ChangesSignWithTheSide) {
   EXPECT_LT(up, -0.2);
   EXPECT_GT(down, 0.2);
   EXPECT_NEAR(up, -down, 0.05);
+}
+
+// The paper's top (a shirt): its lowest-energy plate runs the print paths along its long flaps,
+// where the target is nearly straight, so its curvature agreement is not clear; another initial
+// stretch runs them across and agrees (docs/design.md). A forced side only accepts its own sign.
+TEST(ChooseInitialStretch, TakesTheLowestEnergyStretchWhoseCurvatureAgrees) {
+  const Material material = load_material("pla-paper");
+  Mesh top = read_mesh(testing::shared_dir() / "meshes" / "top.obj").mesh;
+  repair_mesh(top);
+  top = loop_subdivide_to(top, 896).mesh;
+  FlattenOptions options;
+  options.lambda1 = material.lambda1;
+  options.lambda2 = material.lambda2;
+  options.width_mm = 250;
+  const FlatPlate lowest_energy = flatten(top, options);
+  const double h = 0.8;
+
+  const StretchChoice automatic =
+      choose_initial_stretch(top, options, material, h, PrintedSide::kAutomatic);
+  EXPECT_NEAR(automatic.lowest_energy_agreement, printed_side_agreement(lowest_energy, material, h),
+              1e-12);
+  EXPECT_LT(std::abs(automatic.lowest_energy_agreement), 0.2);
+  EXPECT_TRUE(automatic.searched);
+  ASSERT_TRUE(automatic.clear);
+  EXPECT_NE(automatic.plate.stretch_candidate, lowest_energy.stretch_candidate);
+  EXPECT_LE(automatic.agreement, -0.2);  // the normal side goes down
+  EXPECT_NEAR(automatic.agreement, printed_side_agreement(automatic.plate, material, h), 1e-12);
+  // It is the lowest-energy plate among the clear ones.
+  for (int k = 0; k < kStretchCandidates; ++k) {
+    options.stretch_candidate = k;
+    const FlatPlate candidate = flatten(top, options);
+    if (std::abs(printed_side_agreement(candidate, material, h)) >= 0.2) {
+      EXPECT_GE(candidate.feasibility.mean_deviation, automatic.plate.feasibility.mean_deviation);
+    }
+  }
+  options.stretch_candidate = -1;
+
+  // The same choice when the normal side is forced down; forced up, no stretch agrees (all the
+  // clear ones are negative), so the lowest-energy one stays.
+  const StretchChoice down =
+      choose_initial_stretch(top, options, material, h, PrintedSide::kNormalDown);
+  EXPECT_EQ(down.plate.stretch_candidate, automatic.plate.stretch_candidate);
+  const StretchChoice up =
+      choose_initial_stretch(top, options, material, h, PrintedSide::kNormalUp);
+  EXPECT_FALSE(up.clear);
+  EXPECT_EQ(up.plate.stretch_candidate, lowest_energy.stretch_candidate);
+
+  // A clear lowest-energy stretch is kept without trying the others.
+  const StretchChoice dome =
+      choose_initial_stretch(make_example("dome"), options, material, h, PrintedSide::kAutomatic);
+  EXPECT_TRUE(dome.clear);
+  EXPECT_FALSE(dome.searched);
 }
 
 // A Gaussian bump, 8 mm tall, over a 50 mm square: curved one way on top and the other way on its

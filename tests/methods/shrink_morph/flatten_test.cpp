@@ -319,6 +319,37 @@ TEST(Flatten, NormalSideIsTheTopAndFlipPrintsTheMirrorImage) {
   EXPECT_NEAR(bottom.feasibility.mean_deviation, top.feasibility.mean_deviation, 1e-5);
 }
 
+// Candidate k of a flipped target is the mirror image of candidate k, so a design can choose the
+// stretch on one side and flatten the other; and the candidates are different plates.
+TEST(Flatten, EachStretchCandidateFlipsToItsMirrorImage) {
+  const Mesh target = paper_mesh("beetle", 2000);
+  FlattenOptions options;
+  options.width_mm = 200;
+  std::vector<double> deviations;
+  for (int k = 0; k < kStretchCandidates; ++k) {
+    options.stretch_candidate = k;
+    options.flip = false;
+    const FlatPlate top = flatten(target, options);
+    options.flip = true;
+    const FlatPlate bottom = flatten(target, options);
+    EXPECT_EQ(top.stretch_candidate, k);
+    EXPECT_EQ(bottom.stretch_candidate, k);
+    Eigen::MatrixXd mirrored = bottom.plate;
+    mirrored.col(1) *= -1;
+    const RigidFit fit = rigid_fit(mirrored, top.plate);
+    EXPECT_LT(fit.max_distance, 1e-3 * options.width_mm) << "candidate " << k;
+    EXPECT_LT(line_field_difference(-bottom.theta1, top.theta1, -fit.angle), 1e-3);
+    deviations.push_back(top.feasibility.mean_deviation);
+  }
+  // The beetle's candidates reach different local minima (docs/flatten.md: the direction decides
+  // which), or the choice would not matter.
+  const auto [low, high] = std::minmax_element(deviations.begin(), deviations.end());
+  EXPECT_GT(*high - *low, 0.1 * *low);
+
+  options.stretch_candidate = kStretchCandidates;
+  EXPECT_THROW(flatten(target, options), UserError);
+}
+
 TEST(Flatten, RotatedTargetGivesTheSamePlateUpToARigidMotion) {
   const Mesh target = paper_mesh("beetle", 2000);
   FlattenOptions options;
