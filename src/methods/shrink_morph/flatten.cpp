@@ -173,7 +173,8 @@ FlatPlate flatten(const Mesh& input, const FlattenOptions& options) {
   // direction gets 1/lambda1 decides which local minimum the iterations reach, and the best
   // direction is not known beforehand (the reference uses the target's x axis, which a rotated
   // input would change). So several directions are tried for a few iterations each, and the one
-  // with the lowest Eq. 11 energy is carried on to convergence.
+  // with the lowest Eq. 11 energy is carried on to convergence (unless the caller names one:
+  // FlattenOptions::stretch_candidate).
   start = Clock::now();
   const double phi0 = best_stretch_angle(P, F, frames, s1, s2);
   const bool chosen = options.stretch_candidate >= 0;
