@@ -251,6 +251,28 @@ Design design_shrink_morph(Mesh target, const std::string& source, const DesignO
     chosen = std::move(*first);  // the first pass ran on the design level: it is the design
   } else {
     chosen = flatten_level(fine.mesh, flip);
+    if (stretch.clear && has_coarse) {
+      // The index names a direction relative to each level's own ARAP plate; on a symmetric
+      // target (the built-in saddle) it can reach another minimum on the finer level, one whose
+      // agreement is not clear. The design level then chooses for itself.
+      const PrintedSide side = flip ? PrintedSide::kNormalDown : PrintedSide::kNormalUp;
+      const double agreement =
+          printed_side_agreement(chosen.flat, options.material, printed_thickness);
+      if (!clear_for(side, flip ? -agreement : agreement)) {
+        const auto t = Clock::now();
+        FlattenOptions own = flatten_options;
+        own.stretch_candidate = -1;
+        const StretchChoice again =
+            choose_initial_stretch(fine.mesh, own, options.material, printed_thickness, side);
+        flatten_options.stretch_candidate = again.clear ? again.plate.stretch_candidate : -1;
+        const double seconds = seconds_since(t);
+        m.t_param_s += seconds;
+        t_not_optim += seconds;
+        progress("flatten", fmt::format("initial stretch {} on the design level",
+                                        flatten_options.stretch_candidate));
+        chosen = flatten_level(fine.mesh, flip);
+      }
+    }
     bool carried_start = false;
     if (first) {
       // The first pass's theta2 and equilibrium, carried up by the subdivision, start the design
