@@ -204,7 +204,7 @@ NewtonResult minimize(const NewtonProblem& problem, const Eigen::VectorXd& x0,
   }
 
   auto& solver = state.solver;
-  auto factorize = [&](const Eigen::SparseMatrix<double>& full, double shift) {
+  auto factorize_hessian = [&](const Eigen::SparseMatrix<double>& full, double shift) {
     const auto t0 = Clock::now();
     if (!state.reduced || !state.reduced->matches(full)) {
       state.reduced = std::make_unique<ReducedHessian>(full, state.reduced_index, num_free);
@@ -216,7 +216,7 @@ NewtonResult minimize(const NewtonProblem& problem, const Eigen::VectorXd& x0,
       state.analyzed = true;
     }
     solver.setShift(shift);
-    solver.factorize(h);
+    factorize(solver, h);
     result.factorization_seconds += seconds_since(t0);
     return solver.info() == Eigen::Success;
   };
@@ -225,7 +225,7 @@ NewtonResult minimize(const NewtonProblem& problem, const Eigen::VectorXd& x0,
   for (int iteration = 0; iteration < options.max_iterations; ++iteration) {
     NewtonIteration record;
     record.energy = result.energy;
-    bool ok = factorize(hessian, 0.0);
+    bool ok = factorize_hessian(hessian, 0.0);
     if (!ok) {
       record.exact_hessian = false;
       start = Clock::now();
@@ -241,13 +241,13 @@ NewtonResult minimize(const NewtonProblem& problem, const Eigen::VectorXd& x0,
         for (Eigen::Index k = 0; k < blend.nonZeros(); ++k) {
           blend.valuePtr()[k] = 0.9 * exact.valuePtr()[k] + 0.1 * hessian.valuePtr()[k];
         }
-        ok = factorize(blend, 0.0);
+        ok = factorize_hessian(blend, 0.0);
       }
-      if (!ok) ok = factorize(hessian, 0.0);
+      if (!ok) ok = factorize_hessian(hessian, 0.0);
       // A sum of PSD element Hessians can still be singular (flat directions no element sees):
       // shift it by growing multiples of its largest diagonal entry until it factorizes.
       const double scale = state.reduced->update(hessian).diagonal().cwiseAbs().maxCoeff();
-      for (double s = 1e-12; !ok && s <= 1e-2; s *= 100) ok = factorize(hessian, s * scale);
+      for (double s = 1e-12; !ok && s <= 1e-2; s *= 100) ok = factorize_hessian(hessian, s * scale);
       if (!ok) {
         result.status = NewtonStatus::kFactorizationFailed;
         break;

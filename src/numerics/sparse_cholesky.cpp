@@ -1,5 +1,7 @@
 #include "numerics/sparse_cholesky.h"
 
+#include <omp.h>
+
 namespace flatmorph {
 
 void configure_sparse_cholesky(SparseCholesky& solver) {
@@ -9,6 +11,14 @@ void configure_sparse_cholesky(SparseCholesky& solver) {
   c.method[0].ordering = CHOLMOD_AMD;
   c.method[1].ordering = CHOLMOD_METIS;
   c.postorder = 1;
+}
+
+void factorize(SparseCholesky& solver, const Eigen::SparseMatrix<double>& a) {
+  // With no active level allowed, every parallel region the calling thread meets runs on it alone.
+  const int max_active_levels = omp_get_max_active_levels();
+  omp_set_max_active_levels(0);
+  solver.factorize(a);
+  omp_set_max_active_levels(max_active_levels);
 }
 
 }  // namespace flatmorph

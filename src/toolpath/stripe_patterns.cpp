@@ -1,6 +1,5 @@
 #include "toolpath/stripe_patterns.h"
 
-#include <Eigen/CholmodSupport>
 #include <Eigen/SparseCore>
 #include <cmath>
 #include <complex>
@@ -8,6 +7,7 @@
 #include <stdexcept>
 
 #include "mesh/operators.h"
+#include "numerics/sparse_cholesky.h"
 #include "toolpath/line_field.h"
 
 namespace flatmorph {
@@ -273,7 +273,7 @@ std::vector<StripePattern> stripe_patterns(const Eigen::MatrixXd& V, const Eigen
   }
 
   std::vector<StripePattern> patterns;
-  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> solver;
+  SparseCholesky solver;
   Eigen::VectorXd x;
   Eigen::MatrixXd previous_X;
   for (size_t layer = 0; layer < theta_vertex.size(); ++layer) {
@@ -325,7 +325,7 @@ std::vector<StripePattern> stripe_patterns(const Eigen::MatrixXd& V, const Eigen
       solver.cholmod().method[0].ordering = CHOLMOD_AMD;
       solver.analyzePattern(A);
     }
-    solver.factorize(A);
+    factorize(solver, A);
     if (solver.info() != Eigen::Success) {
       throw std::runtime_error("stripe_patterns: factorization of the connection Laplacian failed");
     }

@@ -176,7 +176,7 @@ class Theta2Solver {
       analyzed_ = true;
     }
     solver_.setShift(0.0);
-    solver_.factorize(hessian_);
+    factorize(solver_, hessian_);
     if (solver_.info() != Eigen::Success) {
       ++shifted_factorizations_;
       // A stable equilibrium has a positive definite H; near a buckling point it is nearly
@@ -184,7 +184,7 @@ class Theta2Solver {
       const double scale = hessian_.diagonal().cwiseAbs().maxCoeff();
       for (double s = 1e-12; solver_.info() != Eigen::Success && s <= 1e-4; s *= 100) {
         solver_.setShift(s * scale);
-        solver_.factorize(hessian_);
+        factorize(solver_, hessian_);
       }
       if (solver_.info() != Eigen::Success) return false;
     }
