@@ -40,6 +40,7 @@ struct DesignCliOptions {
   std::string material = "pla-paper";
   std::string printer = "generic-marlin";
   std::string side = "auto";
+  std::string stretch = "auto";
   bool gcode = true;
   bool json = false;
   std::string output;
@@ -47,6 +48,17 @@ struct DesignCliOptions {
 
 void require(bool ok, const std::string& message) {
   if (!ok) throw UserError(ErrorCategory::kOption, message);
+}
+
+// --stretch: auto (-1) or an initial stretch index.
+int parse_stretch(const std::string& stretch) {
+  if (stretch == "auto") return -1;
+  for (int k = 0; k < kStretchCandidates; ++k) {
+    if (stretch == std::to_string(k)) return k;
+  }
+  throw UserError(ErrorCategory::kOption,
+                  fmt::format("--stretch {}: give auto or an initial stretch from 0 to {}", stretch,
+                              kStretchCandidates - 1));
 }
 
 // Checked before anything is read or written, so that a bad value leaves no output behind.
@@ -72,6 +84,7 @@ void check(DesignCliOptions& o) {
   require(o.layers >= 2 && o.layers <= 1000,
           fmt::format("--layers {}: give 2 to 1000 layers (theta2 varies through them)", o.layers));
   require(!o.output.empty(), "flatmorph design needs an output folder: -o DIR");
+  parse_stretch(o.stretch);
 }
 
 PrintedSide parse_side(const std::string& side) {
@@ -130,6 +143,7 @@ int run_design(DesignCliOptions& o, const GlobalOptions& global) {
   options.width_mm = o.width_mm;
   options.w_D = o.w_D;
   options.side = side;
+  options.stretch_candidate = parse_stretch(o.stretch);
   options.faces = o.faces;
   options.layers = o.layers;
   options.material = material;
@@ -179,6 +193,7 @@ int run_design(DesignCliOptions& o, const GlobalOptions& global) {
   j["layers"] = o.layers;
   j["layer_height_mm"] = material.layer_height;
   j["side"] = o.side;
+  j["stretch"] = o.stretch;
   j["normal_side_down"] = design.flipped;
   j["side_agreement"] = design.side_agreement;
   j["stretch_candidate"] = design.flat.stretch_candidate;
@@ -287,6 +302,13 @@ Command make_design_command(CLI::App& app, const GlobalOptions& global) {
                   "curls toward; when the curvature does not tell, both sides are designed one "
                   "subdivision level coarser and the closer one is kept), normal-up or "
                   "normal-down")
+      ->capture_default_str();
+  sub->add_option("--stretch", o->stretch,
+                  "Which of the 4 initial stretches (45 degrees apart) the flattening starts from: "
+                  "auto (the one whose print directions follow the target's curvature, see "
+                  "docs/design.md) or 0 to 3. The flattening has several local minima, and the "
+                  "theta2 design can land closer from another one; design.json records the one "
+                  "used as stretch_candidate")
       ->capture_default_str();
   sub->add_flag("!--no-gcode", o->gcode, "Skip trajectories and G-code");
   sub->add_flag("--json", o->json,

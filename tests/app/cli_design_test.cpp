@@ -54,14 +54,19 @@ TEST(CliDesign, WritesThePlateTheShapesAndTheMetrics) {
   EXPECT_TRUE(fs::exists(dir / "layers" / "overview.png"));
   EXPECT_TRUE(fs::exists(dir / "report.html"));  // issue 8
 
-  // --json: design.json on stdout, no progress.
+  // --json: design.json on stdout, no progress. --stretch: the flattening starts where it is told.
+  const int chosen_stretch = j.at("stretch_candidate").get<int>();
+  const int other_stretch = (chosen_stretch + 1) % 4;
   const fs::path dir2 = testing::scratch_dir() / "out2";
-  const auto json_run = run_cli({"design", "--example", "dome", "--width", "60", "--faces", "1",
-                                 "--no-gcode", "--json", "-o", dir2.string()});
+  const auto json_run =
+      run_cli({"design", "--example", "dome", "--width", "60", "--faces", "1", "--no-gcode",
+               "--json", "--stretch", std::to_string(other_stretch), "-o", dir2.string()});
   ASSERT_EQ(json_run.exit_code, 0) << json_run.err;
   const nlohmann::json summary = nlohmann::json::parse(json_run.out);
   EXPECT_EQ(summary.at("metrics").at("faces").get<int>(), target.mesh.num_faces());
   EXPECT_EQ(json_run.out.find("optimize theta2"), std::string::npos) << json_run.out;
+  EXPECT_EQ(summary.at("stretch_candidate").get<int>(), other_stretch);
+  EXPECT_EQ(summary.at("stretch").get<std::string>(), std::to_string(other_stretch));
 }
 
 TEST(CliDesign, BadOptionsExit2AndWriteNothing) {
@@ -74,6 +79,7 @@ TEST(CliDesign, BadOptionsExit2AndWriteNothing) {
       {"design", "--example", "dome", "--material", "nosuch", "-o", dir.string()},
       {"design", (testing::scratch_dir() / "missing.obj").string(), "-o", dir.string()},
       {"design", "--example", "dome", "--side", "left", "-o", dir.string()},
+      {"design", "--example", "dome", "--stretch", "4", "-o", dir.string()},
       {"design", "--example", "dome", "--printer", "nosuch", "-o", dir.string()},
       // 600 mm does not fit the default printer's 220 mm bed: refused before anything is written.
       {"design", "--example", "dome", "--width", "600", "--faces", "1", "-o", dir.string()},

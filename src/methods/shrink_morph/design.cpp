@@ -161,8 +161,20 @@ Design design_shrink_morph(Mesh target, const std::string& source, const DesignO
   bool flip = options.side == PrintedSide::kNormalDown;
   bool side_known = options.side != PrintedSide::kAutomatic;
   t0 = Clock::now();
-  StretchChoice stretch = choose_initial_stretch(first_level, flatten_options, options.material,
-                                                 printed_thickness, options.side);
+  const bool stretch_given = options.stretch_candidate >= 0;
+  StretchChoice stretch;
+  if (stretch_given) {
+    FlattenOptions given = flatten_options;
+    given.stretch_candidate = options.stretch_candidate;
+    flatten_options.stretch_candidate = options.stretch_candidate;
+    stretch.plate = flatten(first_level, given);
+    stretch.agreement = printed_side_agreement(stretch.plate, options.material, printed_thickness);
+    stretch.lowest_energy_agreement = stretch.agreement;
+    stretch.clear = clear_for(options.side, stretch.agreement);
+  } else {
+    stretch = choose_initial_stretch(first_level, flatten_options, options.material,
+                                     printed_thickness, options.side);
+  }
   m.t_param_s += seconds_since(t0);
   if (stretch.searched) {
     progress("flatten",
@@ -251,7 +263,7 @@ Design design_shrink_morph(Mesh target, const std::string& source, const DesignO
     chosen = std::move(*first);  // the first pass ran on the design level: it is the design
   } else {
     chosen = flatten_level(fine.mesh, flip);
-    if (stretch.clear && has_coarse) {
+    if (stretch.clear && has_coarse && !stretch_given) {
       // The index names a direction relative to each level's own ARAP plate; on a symmetric
       // target (the built-in saddle) it can reach another minimum on the finer level, one whose
       // agreement is not clear. The design level then chooses for itself.

@@ -28,6 +28,9 @@ struct DesignOptions {
   double w_D = 0.0;         // Eq. 12 smoothing weight (dimensionless)
   // Which side of the target is printed on top: chosen by printed_side_agreement when automatic.
   PrintedSide side = PrintedSide::kAutomatic;
+  // The flattening's initial stretch (FlattenOptions::stretch_candidate, 0 to 3, 45° apart), or -1
+  // to choose it by the target's curvature (choose_initial_stretch).
+  int stretch_candidate = -1;
   int faces = 10000;  // Loop-subdivide the target until it has at least this many faces
   int layers = 10;    // printed layers of material.layer_height mm: h = layers * height
   Material material;
