@@ -64,11 +64,8 @@ int run_flatten(const FlattenCliOptions& options, const GlobalOptions& global) {
   const int input_faces = prepared.input_faces;
   const double prepare_seconds = seconds_since(start);
 
-  FlattenOptions flatten_options;
-  flatten_options.lambda1 = material.lambda1;
-  flatten_options.lambda2 = material.lambda2;
-  flatten_options.width_mm = options.width_mm;
-  flatten_options.w_D = options.w_D;
+  FlattenOptions flatten_options =
+      flatmorph::flatten_options(material, options.width_mm, options.w_D);
   flatten_options.flip = options.flip;
   const FlatPlate plate = flatten(mesh, flatten_options);
 

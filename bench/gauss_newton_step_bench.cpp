@@ -73,13 +73,9 @@ const Prepared* prepare(const StepModel& model, benchmark::State& state) {
   }
   const Material material = load_material("pla-paper");
   const Mesh mesh = loop_subdivide_to(read_mesh(path).mesh, model.faces).mesh;
-  FlattenOptions flatten_options;
-  flatten_options.lambda1 = material.lambda1;
-  flatten_options.lambda2 = material.lambda2;
-  flatten_options.width_mm = model.width_mm;
-  flatten_options.w_D = model.w_D;
-  flatten_options.flip = model.flip;
-  const FlatPlate flat = flatten(mesh, flatten_options);
+  FlattenOptions options = flatten_options(material, model.width_mm, model.w_D);
+  options.flip = model.flip;
+  const FlatPlate flat = flatten(mesh, options);
   Prepared p;
   p.problem = theta2_problem(flat, material, 10 * material.layer_height);
   OptimizeTheta2Options two;

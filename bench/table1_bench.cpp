@@ -58,11 +58,7 @@ void BM_DistToSim(benchmark::State& state) {
   const Material material = load_material("pla-paper");
   for (auto _ : state) {
     const Mesh mesh = loop_subdivide_to(read_mesh(path).mesh, model.faces).mesh;
-    FlattenOptions options;
-    options.lambda1 = material.lambda1;
-    options.lambda2 = material.lambda2;
-    options.width_mm = model.width_mm;
-    options.w_D = model.w_D;
+    FlattenOptions options = flatten_options(material, model.width_mm, model.w_D);
     const auto t0 = std::chrono::steady_clock::now();
     // The initial stretch as the design chooses it (there on the coarser level when it has one).
     const StretchChoice stretch =

@@ -149,11 +149,8 @@ Design design_shrink_morph(Mesh target, const std::string& source, const DesignO
                        has_coarse ? fmt::format("; a first pass on {} faces", m.coarse_faces)
                                   : std::string()));
 
-  FlattenOptions flatten_options;
-  flatten_options.lambda1 = options.material.lambda1;
-  flatten_options.lambda2 = options.material.lambda2;
-  flatten_options.width_mm = options.width_mm;
-  flatten_options.w_D = options.w_D;
+  FlattenOptions flatten_options =
+      flatmorph::flatten_options(options.material, options.width_mm, options.w_D);
   flatten_options.progress = options.progress;
 
   // The plate bends toward its top with theta2 = 0 (Eq. 7); when the target's curvature clearly

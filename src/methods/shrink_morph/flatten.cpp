@@ -101,6 +101,15 @@ double best_stretch_angle(const Eigen::MatrixXd& P, const Eigen::MatrixXi& F,
 
 }  // namespace
 
+FlattenOptions flatten_options(const Material& material, double width_mm, double w_D) {
+  FlattenOptions options;
+  options.lambda1 = material.lambda1;
+  options.lambda2 = material.lambda2;
+  options.width_mm = width_mm;
+  options.w_D = w_D;
+  return options;
+}
+
 FlatPlate flatten(const Mesh& input, const FlattenOptions& options) {
   check_options(options);
   FlatPlate result;

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "common/progress.h"
+#include "material/material.h"
 #include "mesh/mesh.h"
 
 namespace flatmorph {
@@ -85,6 +86,10 @@ struct FlatPlate {
   std::vector<FlattenStep> steps;
   std::vector<std::string> warnings;  // e.g. an iteration cap that was hit
 };
+
+// The defaults with the material's shrink ratios, a plate `width_mm` mm wide and the Eq. 12 weight
+// w_D (dimensionless).
+FlattenOptions flatten_options(const Material& material, double width_mm, double w_D = 0.0);
 
 // Flattens a disk-like target (one component, one boundary loop; units arbitrary, the result is in
 // mm through options.width_mm): Tutte embedding on a circle, isotropic ARAP, alignment and stretch

@@ -66,10 +66,7 @@ TEST(DesignExampleAtTheDefaultResolution, TheSaddleLowersTheDistanceThreeTimes) 
 // flipped target is the mirror image, with the pulled-back curvature negated.
 TEST(PrintedSideAgreement, ChangesSignWithTheSide) {
   const Material material = load_material("pla-paper");
-  FlattenOptions options;
-  options.lambda1 = material.lambda1;
-  options.lambda2 = material.lambda2;
-  options.width_mm = 100;
+  FlattenOptions options = flatten_options(material, 100);
   const Mesh dome = make_example("dome");
   const double up = printed_side_agreement(flatten(dome, options), material, 0.8);
   options.flip = true;
@@ -87,10 +84,7 @@ TEST(ChooseInitialStretch, TakesTheLowestEnergyStretchWhoseCurvatureAgrees) {
   Mesh top = read_mesh(testing::shared_dir() / "meshes" / "top.obj").mesh;
   repair_mesh(top);
   top = loop_subdivide_to(top, 896).mesh;
-  FlattenOptions options;
-  options.lambda1 = material.lambda1;
-  options.lambda2 = material.lambda2;
-  options.width_mm = 250;
+  FlattenOptions options = flatten_options(material, 250);
   const FlatPlate lowest_energy = flatten(top, options);
   const double h = 0.8;
 
@@ -149,12 +143,9 @@ TEST(DesignSide, DesignsBothSidesOneLevelCoarserAndKeepsTheLowerObjective) {
   options.material = load_material("pla-paper");
   options.width_mm = 50;
   const double printed_thickness = options.layers * options.material.layer_height;
-  FlattenOptions flatten_options;
-  flatten_options.lambda1 = options.material.lambda1;
-  flatten_options.lambda2 = options.material.lambda2;
-  flatten_options.width_mm = options.width_mm;
-  ASSERT_LT(std::abs(printed_side_agreement(flatten(target, flatten_options), options.material,
-                                            printed_thickness)),
+  ASSERT_LT(std::abs(printed_side_agreement(
+                flatten(target, flatten_options(options.material, options.width_mm)),
+                options.material, printed_thickness)),
             0.2)
       << "the fixture must leave the side to the designs";
 
