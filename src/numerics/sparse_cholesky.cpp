@@ -15,10 +15,12 @@ void configure_sparse_cholesky(SparseCholesky& solver) {
 
 void factorize(SparseCholesky& solver, const Eigen::SparseMatrix<double>& a) {
   // With no active level allowed, every parallel region the calling thread meets runs on it alone.
-  const int max_active_levels = omp_get_max_active_levels();
-  omp_set_max_active_levels(0);
+  struct SerialOpenMp {
+    int saved = omp_get_max_active_levels();
+    SerialOpenMp() { omp_set_max_active_levels(0); }
+    ~SerialOpenMp() { omp_set_max_active_levels(saved); }
+  } serial;
   solver.factorize(a);
-  omp_set_max_active_levels(max_active_levels);
 }
 
 }  // namespace flatmorph

@@ -21,7 +21,7 @@ void configure_sparse_cholesky(SparseCholesky& solver);
 // CHOLMOD 3 copies every large supernode into the factor with 4 OpenMP threads, a number fixed
 // when it was compiled; on a 2-core machine whose cores TBB and BLAS threads already use, those
 // regions cost more in thread wake-ups than they save (the paper's hat designed in 19.4 s instead
-// of 11.8 s; docs/performance.md). The caller's OpenMP settings are restored afterwards.
+// of 11.5 s; docs/design.md, "Speed"). The caller's OpenMP setting is restored afterwards.
 void factorize(SparseCholesky& solver, const Eigen::SparseMatrix<double>& a);
 
 }  // namespace flatmorph
