@@ -14,6 +14,7 @@
 #include "commands.h"
 #include "common/atomic_file.h"
 #include "common/error.h"
+#include "numerics/sparse_cholesky.h"
 
 namespace {
 
@@ -54,6 +55,7 @@ void exit_cleanly_on_signals() {
 int main(int argc, char** argv) {
   using namespace flatmorph;
   exit_cleanly_on_signals();
+  use_single_threaded_blas();
   CLI::App app{
       "flatmorph: turns a target 3D surface into a flat plate for an ordinary FFF printer that "
       "morphs into that surface when dipped in hot water (Shrink & Morph, TOG 2023).\n"

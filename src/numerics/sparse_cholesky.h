@@ -24,4 +24,11 @@ void configure_sparse_cholesky(SparseCholesky& solver);
 // of 11.5 s; docs/design.md, "Speed"). The caller's OpenMP setting is restored afterwards.
 void factorize(SparseCholesky& solver, const Eigen::SparseMatrix<double>& a);
 
+// Makes OpenBLAS, when it is the BLAS this process runs on, do its work on the calling thread;
+// called once at the start of the programs (app/main.cpp, bench/main.cpp). Its threads wait for
+// work by spinning, and on a busy machine every BLAS call then waits for a descheduled thread: the
+// README's saddle took 108 s instead of 16 s beside two busy processes on 2 cores. On an idle
+// machine they saved nothing (the paper's hat 12.0 s with them, 11.8 s without).
+void use_single_threaded_blas();
+
 }  // namespace flatmorph
