@@ -84,7 +84,6 @@ void check(DesignCliOptions& o) {
   require(o.layers >= 2 && o.layers <= 1000,
           fmt::format("--layers {}: give 2 to 1000 layers (theta2 varies through them)", o.layers));
   require(!o.output.empty(), "flatmorph design needs an output folder: -o DIR");
-  parse_stretch(o.stretch);
 }
 
 PrintedSide parse_side(const std::string& side) {
@@ -120,6 +119,7 @@ nlohmann::ordered_json metrics_json(const DesignMetrics& m) {
 int run_design(DesignCliOptions& o, const GlobalOptions& global) {
   check(o);
   const PrintedSide side = parse_side(o.side);
+  const int stretch = parse_stretch(o.stretch);
   const Material material = load_material(o.material);
   // A bad printer fails before any work.
   const PrinterProfile printer = load_printer(o.printer);
@@ -143,7 +143,7 @@ int run_design(DesignCliOptions& o, const GlobalOptions& global) {
   options.width_mm = o.width_mm;
   options.w_D = o.w_D;
   options.side = side;
-  options.stretch_candidate = parse_stretch(o.stretch);
+  options.stretch_candidate = stretch;
   options.faces = o.faces;
   options.layers = o.layers;
   options.material = material;

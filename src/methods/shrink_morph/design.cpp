@@ -70,13 +70,12 @@ StretchChoice choose_initial_stretch(const Mesh& target, const FlattenOptions& o
                                      PrintedSide side) {
   FlattenOptions up = options;
   up.flip = false;
-  up.stretch_candidate = -1;
   StretchChoice choice;
   choice.plate = flatten(target, up);
   choice.agreement = printed_side_agreement(choice.plate, material, printed_thickness_mm);
   choice.lowest_energy_agreement = choice.agreement;
   choice.clear = clear_for(side, choice.agreement);
-  if (choice.clear) return choice;
+  if (choice.clear || options.stretch_candidate >= 0) return choice;
   choice.searched = true;
   for (int k = 0; k < kStretchCandidates; ++k) {
     if (k == choice.plate.stretch_candidate) continue;
@@ -159,19 +158,9 @@ Design design_shrink_morph(Mesh target, const std::string& source, const DesignO
   bool side_known = options.side != PrintedSide::kAutomatic;
   t0 = Clock::now();
   const bool stretch_given = options.stretch_candidate >= 0;
-  StretchChoice stretch;
-  if (stretch_given) {
-    FlattenOptions given = flatten_options;
-    given.stretch_candidate = options.stretch_candidate;
-    flatten_options.stretch_candidate = options.stretch_candidate;
-    stretch.plate = flatten(first_level, given);
-    stretch.agreement = printed_side_agreement(stretch.plate, options.material, printed_thickness);
-    stretch.lowest_energy_agreement = stretch.agreement;
-    stretch.clear = clear_for(options.side, stretch.agreement);
-  } else {
-    stretch = choose_initial_stretch(first_level, flatten_options, options.material,
-                                     printed_thickness, options.side);
-  }
+  flatten_options.stretch_candidate = options.stretch_candidate;
+  StretchChoice stretch = choose_initial_stretch(first_level, flatten_options, options.material,
+                                                 printed_thickness, options.side);
   m.t_param_s += seconds_since(t0);
   if (stretch.searched) {
     progress("flatten",
@@ -271,7 +260,7 @@ Design design_shrink_morph(Mesh target, const std::string& source, const DesignO
         const auto t = Clock::now();
         FlattenOptions own = flatten_options;
         own.stretch_candidate = -1;
-        const StretchChoice again =
+        StretchChoice again =
             choose_initial_stretch(fine.mesh, own, options.material, printed_thickness, side);
         flatten_options.stretch_candidate = again.clear ? again.plate.stretch_candidate : -1;
         const double seconds = seconds_since(t);
@@ -279,7 +268,10 @@ Design design_shrink_morph(Mesh target, const std::string& source, const DesignO
         t_not_optim += seconds;
         progress("flatten", fmt::format("initial stretch {} on the design level",
                                         flatten_options.stretch_candidate));
-        chosen = flatten_level(fine.mesh, flip);
+        // Its plate is the normal side up one with that stretch; the other side is its mirror
+        // image, flattened anew.
+        chosen =
+            flip ? flatten_level(fine.mesh, flip) : side_design(std::move(again.plate), options);
       }
     }
     bool carried_start = false;

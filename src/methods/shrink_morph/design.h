@@ -104,7 +104,8 @@ double printed_side_agreement(const FlatPlate& flat, const Material& material,
 // else the lowest-energy one. The paper's top (a shirt) shows why: the lowest-energy plate runs its
 // paths along the two long flaps (agreement 0.02), which then curl whatever theta2 is (6.3 % /
 // 30 % from the target, avg / max); the plate whose paths run across them (agreement 0.32,
-// singular values 0.76 % off instead of 0.51 %) ends at 0.18 % / 2.84 %.
+// singular values 0.76 % off instead of 0.51 %) ends at 0.18 % / 2.84 %. A stretch named in
+// options.stretch_candidate is taken as it is, clear or not, without a search.
 struct StretchChoice {
   FlatPlate plate;       // normal side up (options.flip is ignored; flipping negates the agreement)
   double agreement = 0;  // printed_side_agreement of `plate`
