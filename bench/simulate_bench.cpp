@@ -4,12 +4,12 @@
 #include <benchmark/benchmark.h>
 
 #include <filesystem>
-#include "numerics/sparse_cholesky.h"
 
 #include "../tests/plate/plate_fixtures.h"
 #include "mesh/io.h"
 #include "mesh/subdivide.h"
 #include "methods/shrink_morph/flatten.h"
+#include "numerics/sparse_cholesky.h"
 #include "plate/laminate.h"
 #include "simulate/distance.h"
 #include "simulate/plate_energy.h"

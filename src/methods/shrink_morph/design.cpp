@@ -184,6 +184,11 @@ Design design_shrink_morph(Mesh target, const std::string& source, const DesignO
 
   const auto t_optim = Clock::now();
   double t_not_optim = 0;  // flattening
+  auto count_flattening = [&](Clock::time_point since) {
+    const double seconds = seconds_since(since);
+    m.t_param_s += seconds;
+    t_not_optim += seconds;
+  };
   auto flatten_level = [&](const Mesh& mesh, bool normal_side_down) {
     const auto t = Clock::now();
     FlatPlate flat;
@@ -195,9 +200,7 @@ Design design_shrink_morph(Mesh target, const std::string& source, const DesignO
       flipped.flip = normal_side_down;
       flat = flatten(mesh, flipped);
     }
-    const double seconds = seconds_since(t);
-    m.t_param_s += seconds;
-    t_not_optim += seconds;
+    count_flattening(t);
     return side_design(std::move(flat), options);
   };
 
@@ -263,9 +266,7 @@ Design design_shrink_morph(Mesh target, const std::string& source, const DesignO
         StretchChoice again =
             choose_initial_stretch(fine.mesh, own, options.material, printed_thickness, side);
         flatten_options.stretch_candidate = again.clear ? again.plate.stretch_candidate : -1;
-        const double seconds = seconds_since(t);
-        m.t_param_s += seconds;
-        t_not_optim += seconds;
+        count_flattening(t);
         progress("flatten", fmt::format("initial stretch {} on the design level",
                                         flatten_options.stretch_candidate));
         // Its plate is the normal side up one with that stretch; the other side is its mirror
