@@ -9,27 +9,6 @@
 namespace flatmorph {
 namespace {
 
-void check_layer_sizes(const LayerStack& stack) {
-  const Eigen::Index n = stack.num_faces();
-  for (int k = 0; k < stack.num_layers(); ++k) {
-    const Layer& l = stack.layers[k];
-    if (l.theta.size() != n || l.lambda1.size() != n || l.delta_lambda1.size() != n ||
-        l.lambda2.size() != n || l.lambda3.size() != n ||
-        static_cast<Eigen::Index>(l.covered.size()) != n) {
-      throw UserError(ErrorCategory::kOption,
-                      fmt::format("layer {} of the stack does not give one value per face ({} "
-                                  "faces): fill theta, lambda1..3, delta_lambda1 and covered for "
-                                  "every face",
-                                  k + 1, n));
-    }
-    if (!(l.printed_thickness > 0)) {
-      throw UserError(ErrorCategory::kOption,
-                      fmt::format("layer {} has printed thickness {} mm: use a positive thickness",
-                                  k + 1, l.printed_thickness));
-    }
-  }
-}
-
 }  // namespace
 
 Eigen::Matrix2d rotation(double theta) {
@@ -40,7 +19,7 @@ Eigen::Matrix2d rotation(double theta) {
 }
 
 RestForms laminate(const LayerStack& stack) {
-  check_layer_sizes(stack);
+  check_layer_stack(stack);
   const int num_faces = stack.num_faces();
   RestForms out;
   out.rest_first_fundamental_form.resize(num_faces);
@@ -50,7 +29,7 @@ RestForms laminate(const LayerStack& stack) {
   for (int f = 0; f < num_faces; ++f) {
     double t = 0;
     for (const Layer& l : stack.layers) {
-      if (l.covered[f]) t += l.lambda3(f) * l.printed_thickness;
+      if (l.covers(f)) t += l.lambda3(f) * l.printed_thickness(f);
     }
     if (!(t > 0)) {
       throw UserError(ErrorCategory::kOption,
@@ -63,8 +42,8 @@ RestForms laminate(const LayerStack& stack) {
     double axial_cos = 0, axial_sin = 0;
     double bottom = -0.5 * t;
     for (const Layer& l : stack.layers) {
-      if (!l.covered[f]) continue;
-      const double tau = l.lambda3(f) * l.printed_thickness;
+      if (!l.covers(f)) continue;
+      const double tau = l.lambda3(f) * l.printed_thickness(f);
       const double mid = bottom + 0.5 * tau;
       const double lambda1 = l.lambda1(f), delta = l.delta_lambda1(f);
       const double lambda2_sq = l.lambda2(f) * l.lambda2(f);

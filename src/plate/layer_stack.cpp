@@ -2,9 +2,80 @@
 
 #include <fmt/core.h>
 
+#include <cmath>
+
 #include "common/error.h"
 
 namespace flatmorph {
+
+Layer uniform_layer(int num_faces, int material, const Material& properties,
+                    double printed_thickness) {
+  Layer layer;
+  layer.printed_thickness = Eigen::VectorXd::Constant(num_faces, printed_thickness);
+  layer.material = Eigen::VectorXi::Constant(num_faces, material);
+  layer.theta = Eigen::VectorXd::Zero(num_faces);
+  layer.lambda1 = Eigen::VectorXd::Constant(num_faces, properties.lambda1);
+  layer.delta_lambda1 = Eigen::VectorXd::Zero(num_faces);
+  layer.lambda2 = Eigen::VectorXd::Constant(num_faces, properties.lambda2);
+  layer.lambda3 = Eigen::VectorXd::Constant(num_faces, properties.lambda3);
+  return layer;
+}
+
+void check_layer_stack(const LayerStack& stack) {
+  const Eigen::Index n = stack.num_faces();
+  const int num_materials = static_cast<int>(stack.materials.size());
+  for (int k = 0; k < stack.num_layers(); ++k) {
+    const Layer& l = stack.layers[k];
+    if (l.printed_thickness.size() != n || l.material.size() != n || l.theta.size() != n ||
+        l.lambda1.size() != n || l.delta_lambda1.size() != n || l.lambda2.size() != n ||
+        l.lambda3.size() != n) {
+      throw UserError(ErrorCategory::kOption,
+                      fmt::format("layer {} of the stack does not give one value per face ({} "
+                                  "faces): fill printed_thickness, material, theta, lambda1..3 "
+                                  "and delta_lambda1 for every face",
+                                  k + 1, n));
+    }
+    for (Eigen::Index f = 0; f < n; ++f) {
+      if (!l.covers(f)) continue;
+      if (l.material(f) < 0 || l.material(f) >= num_materials) {
+        throw UserError(ErrorCategory::kOption,
+                        fmt::format("layer {}, face {}: material index {} but the stack has {} "
+                                    "material(s): use 0 to {} or {} for a face the layer does "
+                                    "not cover",
+                                    k + 1, f, l.material(f), num_materials, num_materials - 1,
+                                    Layer::kNotCovered));
+      }
+      if (!(l.printed_thickness(f) > 0) || !std::isfinite(l.printed_thickness(f))) {
+        throw UserError(ErrorCategory::kOption,
+                        fmt::format("layer {}, face {}: printed thickness {} mm; use a positive "
+                                    "thickness",
+                                    k + 1, f, l.printed_thickness(f)));
+      }
+      if (!std::isfinite(l.theta(f)) || !(l.lambda1(f) > 0) || !(l.lambda2(f) > 0) ||
+          !(l.lambda3(f) > 0) || !std::isfinite(l.delta_lambda1(f)) ||
+          !std::isfinite(l.lambda1(f) + l.lambda2(f) + l.lambda3(f))) {
+        throw UserError(ErrorCategory::kOption,
+                        fmt::format("layer {}, face {}: the direction must be finite and the "
+                                    "shrink ratios positive",
+                                    k + 1, f));
+      }
+    }
+  }
+  for (Eigen::Index f = 0; f < n; ++f) {
+    bool covered = false;
+    for (const Layer& l : stack.layers) covered = covered || l.covers(f);
+    if (!covered) {
+      throw UserError(ErrorCategory::kOption,
+                      fmt::format("face {} is covered by no layer: every face of the plate needs "
+                                  "material in at least one layer",
+                                  f));
+    }
+  }
+}
+
+double shrink_morph_layer_weight(int k, int num_layers) {
+  return num_layers == 1 ? 0.0 : double(k - 1) / (num_layers - 1) - 0.5;
+}
 
 LayerStack shrink_morph_layer_stack(const Eigen::VectorXd& theta1, const Eigen::VectorXd& theta2,
                                     const Material& material, int num_layers, double layer_height) {
@@ -23,23 +94,17 @@ LayerStack shrink_morph_layer_stack(const Eigen::VectorXd& theta1, const Eigen::
                     fmt::format("layer height {} mm: use a positive layer height", layer_height));
   }
   const int n = num_layers;
-  const Eigen::Index num_faces = theta1.size();
+  const int num_faces = static_cast<int>(theta1.size());
   LayerStack stack;
+  stack.materials = {material};
   for (int k = 1; k <= n; ++k) {
-    Layer layer;
-    layer.printed_thickness = layer_height;
-    layer.material = material.name;
+    Layer layer = uniform_layer(num_faces, 0, material, layer_height);
     // Paper §3.2.3: the outer layers print theta1 -/+ theta2/2.
-    const double theta2_weight = n == 1 ? 0.0 : double(k - 1) / (n - 1) - 0.5;
-    layer.theta = theta1 + theta2_weight * theta2;
+    layer.theta = theta1 + shrink_morph_layer_weight(k, n) * theta2;
     // Eq. 15 sampled exactly: the layer spans z/h in [(k-1)/n - 1/2, k/n - 1/2].
     const double mid = (k - 0.5) / n - 0.5;
-    layer.lambda1 =
-        Eigen::VectorXd::Constant(num_faces, material.lambda1 + mid * material.delta_lambda1);
-    layer.delta_lambda1 = Eigen::VectorXd::Constant(num_faces, material.delta_lambda1 / n);
-    layer.lambda2 = Eigen::VectorXd::Constant(num_faces, material.lambda2);
-    layer.lambda3 = Eigen::VectorXd::Constant(num_faces, material.lambda3);
-    layer.covered.assign(num_faces, true);
+    layer.lambda1.setConstant(material.lambda1 + mid * material.delta_lambda1);
+    layer.delta_lambda1.setConstant(material.delta_lambda1 / n);
     stack.layers.push_back(std::move(layer));
   }
   return stack;

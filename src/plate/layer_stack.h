@@ -7,44 +7,63 @@
 #pragma once
 
 #include <Eigen/Core>
-#include <string>
 #include <vector>
 
 #include "material/material.h"
 
 namespace flatmorph {
 
+// Per face, what layer k prints there.
 struct Layer {
-  double printed_thickness = 0.0;  // mm, before heating
-  std::string material;            // Material::name
-  Eigen::VectorXd theta;           // per face: deposition direction (rad)
-  // Per face shrink ratios after heating. lambda1 is the mean over the layer's thickness;
-  // delta_lambda1 is lambda1 at the layer's top minus lambda1 at its bottom (lambda1 varies
-  // linearly through the layer: the bilayer effect of Shrink & Morph §4.2 seen from one layer).
+  Eigen::VectorXd printed_thickness;  // mm, before heating
+  // Index into LayerStack::materials (the material is the tool that prints it), or kNotCovered
+  // where this layer prints nothing (holes between tiles, hinge-only faces). The layers that do
+  // cover a face are stacked without gaps in that face's laminate.
+  Eigen::VectorXi material;
+  Eigen::VectorXd theta;  // deposition direction (rad)
+  // Shrink ratios after heating. lambda1 is the mean over the layer's thickness; delta_lambda1 is
+  // lambda1 at the layer's top minus lambda1 at its bottom (lambda1 varies linearly through the
+  // layer: the bilayer effect of Shrink & Morph §4.2 seen from one layer).
   Eigen::VectorXd lambda1;
   Eigen::VectorXd delta_lambda1;
   Eigen::VectorXd lambda2;
   Eigen::VectorXd lambda3;
-  // Per face: false where this layer prints nothing (holes between tiles, hinge-only faces). The
-  // layers that do cover a face are stacked without gaps in that face's laminate.
-  std::vector<bool> covered;
+
+  static constexpr int kNotCovered = -1;
+  bool covers(Eigen::Index face) const { return material(face) != kNotCovered; }
 };
 
 struct LayerStack {
-  std::vector<Layer> layers;  // bottom (on the bed) first
+  std::vector<Material> materials;  // materials[i] is printed by tool i
+  std::vector<Layer> layers;        // bottom (on the bed) first
 
   int num_layers() const { return static_cast<int>(layers.size()); }
   int num_faces() const { return layers.empty() ? 0 : static_cast<int>(layers[0].theta.size()); }
 };
 
-// The Shrink & Morph layer stack (paper §3.2.3 and §4.2): num_layers layers of layer_height mm of
-// `material`, layer k (k = 1 on the bed) printed along theta^k = theta1 + ((k-1)/(n-1) - 1/2)
-// theta2 (the paper's printing rule; a single layer prints theta1), and lambda1 varying linearly
-// through the whole printed thickness h as lambda1(z) = lambda1 + (z/h) delta_lambda1 with z from
-// the mid-plane toward the top (Eq. 15). theta1 and theta2 are per face (rad). Throws UserError
-// on sizes that differ, num_layers < 1 or layer_height <= 0.
+// A layer of `num_faces` faces covered everywhere by material index `material` of the stack,
+// printed `printed_thickness` mm thick along theta = 0 with that material's shrink ratios
+// (lambda1 uniform through the layer); callers then set theta and what varies.
+Layer uniform_layer(int num_faces, int material, const Material& properties,
+                    double printed_thickness);
+
+// Throws UserError (kOption) unless every layer gives one value per face, every covering material
+// index names a material of the stack, thicknesses of covered faces are positive, every value is
+// finite and every face is covered by at least one layer.
+void check_layer_stack(const LayerStack& stack);
+
+// The Shrink & Morph printing rule (paper §3.2.3 and §4.2), the only place that knows it:
+// num_layers layers of layer_height mm of `material`, layer k (k = 1 on the bed) printed along
+// theta^k = theta1 + w_k theta2 with w_k = shrink_morph_layer_weight(k, n), and lambda1 varying
+// linearly through the whole printed thickness h as lambda1(z) = lambda1 + (z/h) delta_lambda1
+// with z from the mid-plane toward the top (Eq. 15). theta1 and theta2 are per face (rad).
+// Throws UserError on sizes that differ, num_layers < 1 or layer_height <= 0.
 LayerStack shrink_morph_layer_stack(const Eigen::VectorXd& theta1, const Eigen::VectorXd& theta2,
                                     const Material& material, int num_layers, double layer_height);
+
+// w_k = (k-1)/(n-1) - 1/2: where layer k (1 on the bed) sits in the plate's thickness, from -1/2
+// (bed) to +1/2 (top); 0 for a single layer. d theta^k / d theta2 of the stack above.
+double shrink_morph_layer_weight(int k, int num_layers);
 
 // A per-vertex field averaged to faces (the plain mean of the three corners), as the paper does
 // for theta2 (§3.2.2).

@@ -152,7 +152,7 @@ TEST(Laminate, UncoveredLayersAreLeftOutOfTheFace) {
       shrink_morph_layer_stack(Eigen::VectorXd::Zero(2), Eigen::VectorXd::Zero(2), m, 2, 0.1);
   s.layers[1].theta(0) = M_PI / 2;  // a 0/90 bilayer on face 0
   s.layers[1].theta(1) = M_PI / 2;
-  s.layers[1].covered[1] = false;  // face 1 has only the bottom layer
+  s.layers[1].material(1) = Layer::kNotCovered;  // face 1 has only the bottom layer
   const RestForms lam = laminate(s);
   EXPECT_NEAR(lam.thickness(0), 2 * 0.1 * m.lambda3, 1e-15);
   EXPECT_NEAR(lam.thickness(1), 0.1 * m.lambda3, 1e-15);
@@ -166,7 +166,7 @@ TEST(Laminate, UncoveredLayersAreLeftOutOfTheFace) {
   EXPECT_NEAR(lam.rest_second_fundamental_form[0](0, 0), -0.75 * jump / t, 1e-12);
   EXPECT_NEAR(lam.rest_second_fundamental_form[0](1, 1), 0.75 * jump / t, 1e-12);
   // A face with no layer at all is a user error.
-  s.layers[0].covered[1] = false;
+  s.layers[0].material(1) = Layer::kNotCovered;
   EXPECT_THROW(laminate(s), UserError);
 }
 
