@@ -65,7 +65,6 @@ int run_simulate(const SimulateOptions& o, const GlobalOptions& global) {
   problem.rest_forms =
       laminate(shrink_morph_layer_stack(plate.theta1, vertex_to_face_average(plate.F, plate.theta2),
                                         material, o.layers, material.layer_height));
-  problem.stiffness = stiffness_of(material);
 
   Eigen::MatrixXd target;
   if (!o.target_path.empty()) target = read_shape(o.target_path, plate, "target");

@@ -77,7 +77,7 @@ const Prepared* prepare(const StepModel& model, benchmark::State& state) {
   options.flip = model.flip;
   const FlatPlate flat = flatten(mesh, options);
   Prepared p;
-  p.problem = theta2_problem(flat, material, 10 * material.layer_height);
+  p.problem = theta2_problem(flat, material, 10);
   OptimizeTheta2Options two;
   two.max_iterations = 2;
   const Theta2Result r = optimize_theta2(p.problem, {}, two);

@@ -42,9 +42,8 @@ const Case* hat_case() {
     auto* out = new Case;
     out->problem.plate = flat.plate;
     out->problem.F = flat.target.F;
-    out->problem.rest_forms = shrink_morph_rest_forms(
-        flat.theta1, Eigen::VectorXd::Zero(flat.theta1.size()), m, 10 * m.layer_height);
-    out->problem.stiffness = stiffness_of(m);
+    out->problem.rest_forms = laminate(shrink_morph_layer_stack(
+        flat.theta1, Eigen::VectorXd::Zero(flat.theta1.size()), m, 10, m.layer_height));
     out->target = flat.target.V;
     return out;
   }();
@@ -69,9 +68,8 @@ const Case* disk_case() {
     auto* out = new Case;
     out->problem.plate = plate.V;
     out->problem.F = plate.F;
-    out->problem.rest_forms =
-        shrink_morph_rest_forms(theta1, Eigen::VectorXd::Zero(nf), m, 10 * m.layer_height);
-    out->problem.stiffness = stiffness_of(m);
+    out->problem.rest_forms = laminate(
+        shrink_morph_layer_stack(theta1, Eigen::VectorXd::Zero(nf), m, 10, m.layer_height));
     out->target = simulate(out->problem, flat_start(out->problem)).V;
     for (Eigen::Index v = 0; v < out->target.rows(); ++v) {
       const double x = plate.V(v, 0), y = plate.V(v, 1);
@@ -125,8 +123,8 @@ void BM_PlateEnergyHessian(benchmark::State& state) {
     state.SkipWithError("shared/meshes/hat.obj not found");
     return;
   }
-  const PlateEnergy energy = make_plate_energy(c->problem.plate, c->problem.F,
-                                               c->problem.rest_forms, c->problem.stiffness);
+  const PlateEnergy energy =
+      make_plate_energy(c->problem.plate, c->problem.F, c->problem.rest_forms);
   Eigen::VectorXd x(c->target.size());
   for (Eigen::Index v = 0; v < c->target.rows(); ++v)
     x.segment<3>(3 * v) = c->target.row(v).transpose();
@@ -147,8 +145,8 @@ void BM_PlateHessianFactorization(benchmark::State& state) {
     state.SkipWithError("shared/meshes/hat.obj not found");
     return;
   }
-  const PlateEnergy energy = make_plate_energy(c->problem.plate, c->problem.F,
-                                               c->problem.rest_forms, c->problem.stiffness);
+  const PlateEnergy energy =
+      make_plate_energy(c->problem.plate, c->problem.F, c->problem.rest_forms);
   Eigen::VectorXd x(c->target.size());
   for (Eigen::Index v = 0; v < c->target.rows(); ++v)
     x.segment<3>(3 * v) = c->target.row(v).transpose();

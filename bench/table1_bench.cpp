@@ -68,7 +68,7 @@ void BM_DistToSim(benchmark::State& state) {
     options.flip = model.flip;
     const FlatPlate flat = flatten(mesh, options);
     const auto t1 = std::chrono::steady_clock::now();
-    const Theta2Problem problem = theta2_problem(flat, material, 10 * material.layer_height);
+    const Theta2Problem problem = theta2_problem(flat, material, 10);
     const SimulationResult sim = simulate(
         theta2_plate_problem(problem, Eigen::VectorXd::Zero(flat.plate.rows())), problem.target);
     const ShapeDistance d = shape_distance(sim.V, flat.target.V);

@@ -2,6 +2,8 @@
 
 #include <fmt/core.h>
 
+#include <Eigen/Cholesky>
+#include <Eigen/LU>
 #include <cmath>
 
 #include "common/error.h"
@@ -9,7 +11,172 @@
 namespace flatmorph {
 namespace {
 
+Eigen::Vector3d components(const Eigen::Matrix2d& m) { return {m(0, 0), m(1, 1), m(0, 1)}; }
+
+Eigen::Matrix2d from_components(const Eigen::Vector3d& c) {
+  Eigen::Matrix2d m;
+  m << c(0), c(2), c(2), c(1);
+  return m;
+}
+
+// S(θ): the components of R(θ) Y R(θ)ᵀ from those of a symmetric Y, and dS/dθ.
+Eigen::Matrix3d turn(double theta) {
+  const double c = std::cos(theta), s = std::sin(theta);
+  Eigen::Matrix3d m;
+  m << c * c, s * s, -2 * c * s, s * s, c * c, 2 * c * s, c * s, -c * s, c * c - s * s;
+  return m;
+}
+
+Eigen::Matrix3d turn_derivative(double theta) {
+  const double c2 = std::cos(2 * theta), s2 = std::sin(2 * theta);
+  Eigen::Matrix3d m;
+  m << -s2, s2, -2 * c2, s2, -s2, 2 * c2, c2, -c2, -2 * s2;
+  return m;
+}
+
+// P in the layer's own frame (θ = 0, c̄ = diag(λ1², λ2²)): Voigt(c̄⁻¹ Y) = N y, P0 = λ1 λ2 Nᵀ C N.
+Eigen::Matrix3d layer_frame_norm(double lambda1, double lambda2, const Eigen::Matrix3d& c) {
+  const double i1 = 1 / (lambda1 * lambda1), i2 = 1 / (lambda2 * lambda2);
+  const Eigen::Matrix3d n = Eigen::Vector3d(i1, i2, i1 + i2).asDiagonal();
+  return lambda1 * lambda2 * n.transpose() * c * n;
+}
+
+Matrix6d block_stiffness(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b,
+                         const Eigen::Matrix3d& d) {
+  Matrix6d k;
+  k << a, -2 * b, -2 * b, 4 * d;
+  return k;
+}
+
+// One face's integrals over its covered layers; with `rates`, also their derivatives.
+struct FaceIntegrals {
+  Eigen::Matrix3d a = Eigen::Matrix3d::Zero(), b = Eigen::Matrix3d::Zero(),
+                  d = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d m_a = Eigen::Vector3d::Zero(), m_b = Eigen::Vector3d::Zero();
+};
+
+RestForms laminate_impl(const LayerStack& stack, const std::vector<double>* rates,
+                        LaminateDerivative* derivative) {
+  check_layer_stack(stack);
+  const int num_faces = stack.num_faces();
+  std::vector<Eigen::Matrix3d> elasticity;
+  for (const Material& m : stack.materials) {
+    elasticity.push_back(orthotropic_elasticity_tensor(stiffness_of(m)));
+  }
+  RestForms out;
+  out.rest_first_fundamental_form.resize(num_faces);
+  out.rest_second_fundamental_form.resize(num_faces);
+  out.stiffness.resize(num_faces);
+  out.thickness.resize(num_faces);
+  out.energy_scale.resize(num_faces);
+  if (derivative) {
+    derivative->stiffness.resize(num_faces);
+    derivative->rest.resize(num_faces);
+  }
+  for (int f = 0; f < num_faces; ++f) {
+    double t = 0, scale = 0;
+    for (const Layer& l : stack.layers) {
+      if (!l.covers(f)) continue;
+      const double tau = l.lambda3(f) * l.printed_thickness(f);
+      t += tau;
+      scale += tau * stack.materials[l.material(f)].young_modulus_along;
+    }
+    FaceIntegrals value, rate;
+    double bottom = -0.5 * t;
+    for (int k = 0; k < stack.num_layers(); ++k) {
+      const Layer& l = stack.layers[k];
+      if (!l.covers(f)) continue;
+      const double tau = l.lambda3(f) * l.printed_thickness(f);
+      const double mid = bottom + 0.5 * tau;
+      bottom += tau;
+      const double lambda1 = l.lambda1(f), delta = l.delta_lambda1(f), lambda2 = l.lambda2(f);
+      // λ1(z) = λ1 + δ u/τ with u = z − mid in [−τ/2, τ/2]:
+      //   ∫ λ1² dz = τ (λ1² + δ²/12),  ∫ z λ1² dz = mid τ (λ1² + δ²/12) + λ1 δ τ²/6.
+      const double along = tau * (lambda1 * lambda1 + delta * delta / 12.0);
+      const double along_moment = mid * along + lambda1 * delta * tau * tau / 6.0;
+      const Eigen::Vector3d metric(along, tau * lambda2 * lambda2, 0);
+      const Eigen::Vector3d metric_moment(along_moment, mid * tau * lambda2 * lambda2, 0);
+      // Both the rest metric and the stiff direction turn with θ: P = S(−θ)ᵀ P0 S(−θ).
+      const Eigen::Matrix3d p0 = layer_frame_norm(lambda1, lambda2, elasticity[l.material(f)]);
+      const double theta = l.theta(f);
+      const Eigen::Matrix3d to_layer = turn(-theta), to_plate = turn(theta);
+      const Eigen::Matrix3d p = to_layer.transpose() * p0 * to_layer;
+      const Eigen::Vector3d c = to_plate * metric, zc = to_plate * metric_moment;
+      value.a += tau * p;
+      value.b += tau * mid * p;
+      value.d += (tau * mid * mid + tau * tau * tau / 12) * p;
+      value.m_a += p * c;
+      value.m_b += p * zc;
+      if (!rates) continue;
+      const double rate_k = (*rates)[k];
+      if (rate_k == 0) continue;
+      // d/dθ S(−θ) = −S'(−θ); d/dθ S(θ) = S'(θ).
+      const Eigen::Matrix3d d_to_layer = -turn_derivative(-theta);
+      const Eigen::Matrix3d dp = rate_k * (d_to_layer.transpose() * p0 * to_layer +
+                                           to_layer.transpose() * p0 * d_to_layer);
+      const Eigen::Matrix3d d_to_plate = rate_k * turn_derivative(theta);
+      rate.a += tau * dp;
+      rate.b += tau * mid * dp;
+      rate.d += (tau * mid * mid + tau * tau * tau / 12) * dp;
+      rate.m_a += dp * c + p * (d_to_plate * metric);
+      rate.m_b += dp * zc + p * (d_to_plate * metric_moment);
+    }
+    const Matrix6d k = block_stiffness(value.a, value.b, value.d);
+    Vector6d m;
+    m << value.m_a, -2 * value.m_b;
+    const Eigen::LLT<Matrix6d> llt(k);
+    const Vector6d rest = llt.solve(m);
+    out.rest_first_fundamental_form[f] = from_components(rest.head<3>());
+    out.rest_second_fundamental_form[f] = from_components(rest.tail<3>());
+    out.stiffness[f] = k;
+    out.thickness(f) = t;
+    out.energy_scale(f) = scale;
+    if (derivative) {
+      const Matrix6d dk = block_stiffness(rate.a, rate.b, rate.d);
+      Vector6d dm;
+      dm << rate.m_a, -2 * rate.m_b;
+      derivative->stiffness[f] = dk;
+      derivative->rest[f] = llt.solve(dm - dk * rest);  // K s̄ = m differentiated
+    }
+  }
+  return out;
+}
+
 }  // namespace
+
+Stiffness stiffness_of(const Material& material) {
+  return {material.young_modulus_along, material.young_modulus_across, material.poisson_ratio};
+}
+
+Eigen::Matrix3d orthotropic_elasticity_tensor(const Stiffness& s) {
+  const double e1 = s.young_modulus_along, e2 = s.young_modulus_across, nu = s.poisson_ratio;
+  const double g = std::sqrt(e1 * e2);
+  Eigen::Matrix3d c;
+  c << e1, nu * g, 0, nu * g, e2, 0, 0, 0, 0.5 * (1 - nu) * g;
+  return c / (1 - nu * nu);  // Eq. 4
+}
+
+Eigen::Matrix3d material_norm(const Eigen::Matrix2d& rest_metric, double material_angle,
+                              const Stiffness& stiffness) {
+  const Eigen::Matrix2d inverse = rest_metric.inverse();
+  const Eigen::Matrix2d r = rotation(material_angle);
+  const Eigen::Matrix2d unit[3] = {(Eigen::Matrix2d() << 1, 0, 0, 0).finished(),
+                                   (Eigen::Matrix2d() << 0, 0, 0, 1).finished(),
+                                   (Eigen::Matrix2d() << 0, 1, 1, 0).finished()};
+  Eigen::Matrix3d strain;  // X's components -> Voigt(Rᵀ c̄⁻¹ X R)
+  for (int j = 0; j < 3; ++j) {
+    const Eigen::Matrix2d e = r.transpose() * inverse * unit[j] * r;
+    strain.col(j) = Eigen::Vector3d(e(0, 0), e(1, 1), e(0, 1) + e(1, 0));
+  }
+  return std::sqrt(rest_metric.determinant()) * strain.transpose() *
+         orthotropic_elasticity_tensor(stiffness) * strain;
+}
+
+Vector6d rest_vector(const Eigen::Matrix2d& a_bar, const Eigen::Matrix2d& b_bar) {
+  Vector6d s;
+  s << components(a_bar), components(b_bar);
+  return s;
+}
 
 Eigen::Matrix2d rotation(double theta) {
   const double c = std::cos(theta), s = std::sin(theta);
@@ -18,87 +185,48 @@ Eigen::Matrix2d rotation(double theta) {
   return r;
 }
 
-RestForms laminate(const LayerStack& stack) {
-  check_layer_stack(stack);
-  const int num_faces = stack.num_faces();
-  RestForms out;
-  out.rest_first_fundamental_form.resize(num_faces);
-  out.rest_second_fundamental_form.resize(num_faces);
-  out.thickness.resize(num_faces);
-  out.material_angle.resize(num_faces);
-  for (int f = 0; f < num_faces; ++f) {
-    double t = 0;
-    for (const Layer& l : stack.layers) {
-      if (l.covers(f)) t += l.lambda3(f) * l.printed_thickness(f);
-    }
-    if (!(t > 0)) {
-      throw UserError(ErrorCategory::kOption,
-                      fmt::format("face {} is covered by no layer: every face of the plate needs "
-                                  "material in at least one layer",
-                                  f));
-    }
-    Eigen::Matrix2d integral = Eigen::Matrix2d::Zero();      // ∫ C̄ dz'
-    Eigen::Matrix2d first_moment = Eigen::Matrix2d::Zero();  // ∫ z' C̄ dz'
-    double axial_cos = 0, axial_sin = 0;
-    double bottom = -0.5 * t;
-    for (const Layer& l : stack.layers) {
-      if (!l.covers(f)) continue;
-      const double tau = l.lambda3(f) * l.printed_thickness(f);
-      const double mid = bottom + 0.5 * tau;
-      const double lambda1 = l.lambda1(f), delta = l.delta_lambda1(f);
-      const double lambda2_sq = l.lambda2(f) * l.lambda2(f);
-      // λ1(z') = λ1 + δ u/τ with u = z' − mid in [−τ/2, τ/2]:
-      //   ∫ λ1² dz' = τ (λ1² + δ²/12),  ∫ z' λ1² dz' = mid τ (λ1² + δ²/12) + λ1 δ τ²/6.
-      const double along = tau * (lambda1 * lambda1 + delta * delta / 12.0);
-      const double along_moment = mid * along + lambda1 * delta * tau * tau / 6.0;
-      const Eigen::Matrix2d r = rotation(l.theta(f));
-      integral += r * Eigen::Vector2d(along, tau * lambda2_sq).asDiagonal() * r.transpose();
-      first_moment +=
-          r * Eigen::Vector2d(along_moment, mid * tau * lambda2_sq).asDiagonal() * r.transpose();
-      axial_cos += tau * std::cos(2 * l.theta(f));
-      axial_sin += tau * std::sin(2 * l.theta(f));
-      bottom += tau;
-    }
-    out.thickness(f) = t;
-    out.rest_first_fundamental_form[f] = integral / t;
-    out.rest_second_fundamental_form[f] = -6.0 / (t * t * t) * first_moment;
-    out.material_angle(f) = 0.5 * std::atan2(axial_sin, axial_cos);
+RestForms laminate(const LayerStack& stack) { return laminate_impl(stack, nullptr, nullptr); }
+
+RestForms laminate(const LayerStack& stack, const std::vector<double>& angle_rates,
+                   LaminateDerivative& derivative) {
+  if (static_cast<int>(angle_rates.size()) != stack.num_layers()) {
+    throw UserError(ErrorCategory::kOption,
+                    fmt::format("{} angle rates for a stack of {} layers: give one per layer",
+                                angle_rates.size(), stack.num_layers()));
   }
-  return out;
+  return laminate_impl(stack, &angle_rates, &derivative);
 }
 
-RestForms shrink_morph_rest_forms(const Eigen::VectorXd& theta1, const Eigen::VectorXd& theta2,
-                                  const Material& material, double printed_thickness) {
-  if (theta1.size() != theta2.size()) {
+RestForms single_material_rest_forms(const std::vector<Eigen::Matrix2d>& a_bar,
+                                     const std::vector<Eigen::Matrix2d>& b_bar,
+                                     const Eigen::VectorXd& thickness,
+                                     const Eigen::VectorXd& material_angle,
+                                     const Stiffness& stiffness) {
+  const int num_faces = static_cast<int>(thickness.size());
+  if (static_cast<int>(a_bar.size()) != num_faces || static_cast<int>(b_bar.size()) != num_faces ||
+      material_angle.size() != num_faces) {
     throw UserError(ErrorCategory::kOption,
-                    fmt::format("theta1 has {} faces but theta2 has {}: give one value per face "
-                                "for both",
-                                theta1.size(), theta2.size()));
+                    fmt::format("rest forms: {} first and {} second forms, {} material angles for "
+                                "{} faces: give one of each per face",
+                                a_bar.size(), b_bar.size(), material_angle.size(), num_faces));
   }
-  if (!(printed_thickness > 0)) {
-    throw UserError(
-        ErrorCategory::kOption,
-        fmt::format("printed thickness {} mm: use a positive thickness", printed_thickness));
-  }
-  const int num_faces = static_cast<int>(theta1.size());
-  const double l1 = material.lambda1, l2 = material.lambda2;
-  const double t = material.lambda3 * printed_thickness;
   RestForms out;
-  out.rest_first_fundamental_form.resize(num_faces);
-  out.rest_second_fundamental_form.resize(num_faces);
-  out.thickness = Eigen::VectorXd::Constant(num_faces, t);
-  out.material_angle = theta1;
-  Eigen::Matrix2d swap, along;
-  swap << 0, 1, 1, 0;
-  along << 1, 0, 0, 0;
+  out.rest_first_fundamental_form = a_bar;
+  out.rest_second_fundamental_form = b_bar;
+  out.thickness = thickness;
+  out.energy_scale = stiffness.young_modulus_along * thickness;
+  out.stiffness.resize(num_faces);
   for (int f = 0; f < num_faces; ++f) {
-    const Eigen::Matrix2d r = rotation(theta1(f));
-    out.rest_first_fundamental_form[f] =
-        r * Eigen::Vector2d(l1 * l1, l2 * l2).asDiagonal() * r.transpose();  // Eq. 6
-    // Eq. 7 and 16-17 with z/h = z'/t: C̄ = ā − 2 z' b̄.
-    const Eigen::Matrix2d material_frame =
-        theta2(f) * (l2 * l2 - l1 * l1) / (2 * t) * swap - material.delta_lambda1 * l1 / t * along;
-    out.rest_second_fundamental_form[f] = r * material_frame * r.transpose();
+    if (!(a_bar[f].determinant() > 0) || !(a_bar[f](0, 0) > 0)) {
+      throw UserError(ErrorCategory::kGeometry,
+                      fmt::format("face {}: the rest first fundamental form is not positive "
+                                  "definite (determinant {}): check the rest forms given for "
+                                  "this face",
+                                  f, a_bar[f].determinant()));
+    }
+    const double t = thickness(f);
+    const Eigen::Matrix3d p = material_norm(a_bar[f], material_angle(f), stiffness);
+    out.stiffness[f] = block_stiffness(t * p, Eigen::Matrix3d::Zero(), t * t * t / 12 * p);
   }
   return out;
 }

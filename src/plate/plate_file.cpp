@@ -22,9 +22,8 @@ PlateFile read_plate_file(const std::filesystem::path& path) {
       static_cast<std::uint64_t>(file.mesh.num_faces()) * kDesignBytesPerFace,
       fmt::format("{}: simulating or printing this plate of {} faces", name, file.mesh.num_faces()),
       "design a coarser plate (flatmorph flatten/design --faces)");
-  const double extent = (file.mesh.V.colwise().maxCoeff() - file.mesh.V.colwise().minCoeff())
-                            .head<2>()
-                            .maxCoeff();
+  const double extent =
+      (file.mesh.V.colwise().maxCoeff() - file.mesh.V.colwise().minCoeff()).head<2>().maxCoeff();
   if (!file.mesh.V.allFinite() ||
       file.mesh.V.col(2).cwiseAbs().maxCoeff() > 1e-9 * std::max(extent, 1.0)) {
     throw UserError(ErrorCategory::kGeometry,

@@ -26,8 +26,6 @@ using Mat12 = Eigen::Matrix<double, 12, 12>;
 using Vec18 = Eigen::Matrix<double, kElementSize, 1>;
 using Mat18 = Eigen::Matrix<double, kElementSize, kElementSize>;
 
-Eigen::Vector3d voigt(const Eigen::Matrix2d& e) { return {e(0, 0), e(1, 1), e(0, 1) + e(1, 0)}; }
-
 Eigen::Matrix3d cross_matrix(const Eigen::Vector3d& v) {
   Eigen::Matrix3d m;
   m << 0, -v(2), v(1), v(2), 0, -v(0), -v(1), v(0), 0;
@@ -131,100 +129,98 @@ struct Workspace {
 
 Eigen::Vector3d position(const Eigen::VectorXd& x, int v) { return x.segment<3>(3 * v); }
 
-// The energy of face f; fills the element gradient/Hessian (slots: face vertices 0-2, then the
-// vertices across edges 0-2) when asked.
-void evaluate_face(const PlateEnergy& energy, int f, const Eigen::VectorXd& x, double& membrane,
-                   double& bending, Vec18* gradient, Mat18* hessian, bool project) {
-  const PlateEnergy::FaceConstants& c = energy.faces[f];
+// The six scalars r = (|u|², |v|², u·v, φ_0, φ_1, φ_2) of face f, and with `hinge` their hinge
+// derivatives (slot k for the hinge across edge k; left alone on the boundary, where φ_k = 0).
+Vector6d face_scalars(const PlateEnergy& energy, int f, const Eigen::VectorXd& x,
+                      HingeDerivatives* hinge) {
   const auto& ev = energy.element_vertices.row(f);
-  const Eigen::Vector3d x0 = position(x, ev(0)), x1 = position(x, ev(1)), x2 = position(x, ev(2));
-  const Eigen::Vector3d u = x1 - x0, v = x2 - x0;
-  const Eigen::Matrix3d& elasticity = energy.elasticity;
-
-  // Membrane: ε_M = P g − c, g = (u·u, v·v, u·v).
-  const Eigen::Vector3d g(u.dot(u), v.dot(v), u.dot(v));
-  const Eigen::Vector3d strain_m = c.membrane_map * g - c.membrane_offset;
-  const Eigen::Vector3d stress_m = elasticity * strain_m;
-  membrane = c.membrane_weight * strain_m.dot(stress_m);
-
-  // Bending: ε_M = P φ − c, φ_k for the hinge across edge k (0 on the boundary).
-  const Eigen::Vector3d xs[3] = {x0, x1, x2};
-  Eigen::Vector3d phi = Eigen::Vector3d::Zero();
-  HingeDerivatives hinge[3];
-  const bool derivatives = gradient != nullptr;
+  const Eigen::Vector3d xs[3] = {position(x, ev(0)), position(x, ev(1)), position(x, ev(2))};
+  const Eigen::Vector3d u = xs[1] - xs[0], v = xs[2] - xs[0];
+  Vector6d r;
+  r << u.dot(u), v.dot(v), u.dot(v), 0, 0, 0;
   for (int k = 0; k < 3; ++k) {
     const int l = ev(3 + k);
     if (l < 0) continue;
     const Eigen::Vector3d& xi = xs[k];
     const Eigen::Vector3d& xj = xs[(k + 1) % 3];
     const Eigen::Vector3d& xk = xs[(k + 2) % 3];
-    if (derivatives) {
+    if (hinge) {
       hinge[k] = hinge_derivatives(xi, xj, xk, position(x, l));
-      phi(k) = hinge[k].phi;
+      r(3 + k) = hinge[k].phi;
     } else {
-      phi(k) = hinge_measure(xi, xj, xk, position(x, l));
+      r(3 + k) = hinge_measure(xi, xj, xk, position(x, l));
     }
   }
-  const Eigen::Vector3d strain_b = c.bending_map * phi - c.bending_offset;
-  const Eigen::Vector3d stress_b = elasticity * strain_b;
-  bending = c.bending_weight * strain_b.dot(stress_b);
-  if (!derivatives) return;
+  return r;
+}
 
-  // Membrane derivatives through g: dW/dg = s, ∇²W = Jᵀ Q J + Σ s_i ∇²g_i.
-  const Eigen::Vector3d s = 2 * c.membrane_weight * c.membrane_map.transpose() * stress_m;
-  const Eigen::Matrix3d q_m =
-      2 * c.membrane_weight * c.membrane_map.transpose() * elasticity * c.membrane_map;
-  Eigen::Matrix<double, 3, 6> jg;
-  jg << 2 * u.transpose(), Eigen::RowVector3d::Zero(), Eigen::RowVector3d::Zero(),
-      2 * v.transpose(), v.transpose(), u.transpose();
-  const Eigen::Matrix<double, 3, 6> q_jg = q_m * jg;
-  Eigen::Matrix<double, 6, 6> huv = jg.transpose().lazyProduct(q_jg);
-  const Eigen::Matrix3d id = Eigen::Matrix3d::Identity();
-  huv.block<3, 3>(0, 0) += 2 * s(0) * id;
-  huv.block<3, 3>(3, 3) += 2 * s(1) * id;
-  huv.block<3, 3>(0, 3) += s(2) * id;
-  huv.block<3, 3>(3, 0) += s(2) * id;
-  const Eigen::Matrix<double, 6, 1> guv = jg.transpose() * s;
-
-  Vec18& grad = *gradient;
-  Mat18& hess = *hessian;
-  grad.setZero();
-  hess.setZero();
+// ∂r/∂x over the element's 18 coordinates (slots: face vertices 0-2, then the vertices across
+// edges 0-2).
+Eigen::Matrix<double, 6, kElementSize> scalar_jacobian(const PlateEnergy& energy, int f,
+                                                       const Eigen::VectorXd& x,
+                                                       const HingeDerivatives* hinge) {
+  const auto& ev = energy.element_vertices.row(f);
+  const Eigen::Vector3d x0 = position(x, ev(0));
+  const Eigen::Vector3d u = position(x, ev(1)) - x0, v = position(x, ev(2)) - x0;
+  Eigen::Matrix<double, 6, kElementSize> j = Eigen::Matrix<double, 6, kElementSize>::Zero();
   // (u, v) = (x1 − x0, x2 − x0).
-  grad.segment<3>(3) = guv.head<3>();
-  grad.segment<3>(6) = guv.tail<3>();
-  grad.segment<3>(0) = -guv.head<3>() - guv.tail<3>();
-  const Eigen::Matrix3d huu = huv.block<3, 3>(0, 0), huv_ = huv.block<3, 3>(0, 3),
-                        hvu = huv.block<3, 3>(3, 0), hvv = huv.block<3, 3>(3, 3);
-  hess.block<3, 3>(3, 3) = huu;
-  hess.block<3, 3>(3, 6) = huv_;
-  hess.block<3, 3>(6, 3) = hvu;
-  hess.block<3, 3>(6, 6) = hvv;
-  hess.block<3, 3>(0, 3) = -(huu + hvu);
-  hess.block<3, 3>(3, 0) = -(huu + huv_);
-  hess.block<3, 3>(0, 6) = -(huv_ + hvv);
-  hess.block<3, 3>(6, 0) = -(hvu + hvv);
-  hess.block<3, 3>(0, 0) = huu + huv_ + hvu + hvv;
-
-  // Bending derivatives through φ: dW/dφ = r, ∇²W = Σ Q_kk' ∇φ_k ∇φ_k'ᵀ + Σ r_k ∇²φ_k.
-  const Eigen::Vector3d r = 2 * c.bending_weight * c.bending_map.transpose() * stress_b;
-  const Eigen::Matrix3d q_b =
-      2 * c.bending_weight * c.bending_map.transpose() * elasticity * c.bending_map;
-  Eigen::Matrix<double, 3, kElementSize> jphi = Eigen::Matrix<double, 3, kElementSize>::Zero();
+  j.block<1, 3>(0, 3) = 2 * u.transpose();
+  j.block<1, 3>(0, 0) = -2 * u.transpose();
+  j.block<1, 3>(1, 6) = 2 * v.transpose();
+  j.block<1, 3>(1, 0) = -2 * v.transpose();
+  j.block<1, 3>(2, 3) = v.transpose();
+  j.block<1, 3>(2, 6) = u.transpose();
+  j.block<1, 3>(2, 0) = -(u + v).transpose();
   for (int k = 0; k < 3; ++k) {
     if (ev(3 + k) < 0) continue;
     const int slot[4] = {k, (k + 1) % 3, (k + 2) % 3, 3 + k};
     for (int p = 0; p < 4; ++p) {
-      jphi.block<1, 3>(k, 3 * slot[p]) = hinge[k].gradient.segment<3>(3 * p).transpose();
+      j.block<1, 3>(3 + k, 3 * slot[p]) = hinge[k].gradient.segment<3>(3 * p).transpose();
+    }
+  }
+  return j;
+}
+
+// The energy of face f (its membrane and bending parts, the coupling split evenly); fills the
+// element gradient/Hessian when asked.
+void evaluate_face(const PlateEnergy& energy, int f, const Eigen::VectorXd& x, double& membrane,
+                   double& bending, Vec18* gradient, Mat18* hessian, bool project) {
+  const PlateEnergy::FaceConstants& c = energy.faces[f];
+  const bool derivatives = gradient != nullptr;
+  HingeDerivatives hinge[3];
+  const Vector6d r = face_scalars(energy, f, x, derivatives ? hinge : nullptr);
+  const Vector6d strain = c.strain_map * r - c.rest;
+  const Vector6d stress = c.weighted_stiffness * strain;
+  membrane = 0.5 * strain.head<3>().dot(stress.head<3>());
+  bending = 0.5 * strain.tail<3>().dot(stress.tail<3>());
+  if (!derivatives) return;
+
+  // dW/dr = Tᵀ K' (T r − s̄); ∇²W = Jᵀ (Tᵀ K' T) J + Σ_i (dW/dr)_i ∇²r_i.
+  const Vector6d rho = c.strain_map.transpose() * stress;
+  const Eigen::Matrix<double, 6, kElementSize> j = scalar_jacobian(energy, f, x, hinge);
+  Vec18& grad = *gradient;
+  Mat18& hess = *hessian;
+  grad = j.transpose() * rho;
+  const Eigen::Matrix<double, 6, kElementSize> kj = c.stiffness_in_r * j;
+  hess = j.transpose().lazyProduct(kj);
+  // ∇²|u|² = 2 I on u, ∇²|v|² = 2 I on v, ∇²(u·v) = I across; (u, v) = (x1 − x0, x2 − x0).
+  const double uu = 2 * rho(0), vv = 2 * rho(1), uv = rho(2);
+  const double block[3][3] = {
+      {uu + vv + 2 * uv, -(uu + uv), -(vv + uv)}, {-(uu + uv), uu, uv}, {-(vv + uv), uv, vv}};
+  for (int p = 0; p < 3; ++p) {
+    for (int q = 0; q < 3; ++q) hess.block<3, 3>(3 * p, 3 * q).diagonal().array() += block[p][q];
+  }
+  const auto& ev = energy.element_vertices.row(f);
+  for (int k = 0; k < 3; ++k) {
+    if (ev(3 + k) < 0) continue;
+    const int slot[4] = {k, (k + 1) % 3, (k + 2) % 3, 3 + k};
+    for (int p = 0; p < 4; ++p) {
       for (int q = 0; q < 4; ++q) {
         hess.block<3, 3>(3 * slot[p], 3 * slot[q]) +=
-            r(k) * hinge[k].hessian.block<3, 3>(3 * p, 3 * q);
+            rho(3 + k) * hinge[k].hessian.block<3, 3>(3 * p, 3 * q);
       }
     }
   }
-  grad += jphi.transpose() * r;
-  const Eigen::Matrix<double, 3, kElementSize> q_jphi = q_b * jphi;
-  hess += jphi.transpose().lazyProduct(q_jphi);
   if (project) project_to_psd<kElementSize>(hess);
 }
 
@@ -247,33 +243,24 @@ void run_faces(const PlateEnergy& energy, const Eigen::VectorXd& x, Workspace& w
                     });
 }
 
-Eigen::Matrix2d inverse_checked(const Eigen::Matrix2d& m, int f, const char* what) {
-  const double det = m.determinant();
-  if (!(det > 0) || !std::isfinite(det)) {
+void set_face_rest_forms(PlateEnergy::FaceConstants& c, const Eigen::Matrix2d& a_bar,
+                         const Eigen::Matrix2d& b_bar, const Matrix6d& stiffness, int f) {
+  if (!stiffness.allFinite() || stiffness.llt().info() != Eigen::Success ||
+      !(a_bar.determinant() > 0)) {
     throw UserError(ErrorCategory::kGeometry,
-                    fmt::format("face {}: {} is not positive definite (determinant {}): check the "
-                                "rest forms given for this face",
-                                f, what, det));
+                    fmt::format("face {}: the laminate's stiffness or rest metric is not positive "
+                                "definite: check the rest forms given for this face",
+                                f));
   }
-  return m.inverse();
+  c.rest = rest_vector(a_bar, b_bar);
+  c.weighted_stiffness = 0.5 * c.rest_area * stiffness;
+  c.stiffness_in_r = c.strain_map.transpose() * c.weighted_stiffness * c.strain_map;
 }
 
 }  // namespace
 
-Stiffness stiffness_of(const Material& material) {
-  return {material.young_modulus_along, material.young_modulus_across, material.poisson_ratio};
-}
-
-Eigen::Matrix3d orthotropic_elasticity_tensor(const Stiffness& s) {
-  const double e1 = s.young_modulus_along, e2 = s.young_modulus_across, nu = s.poisson_ratio;
-  const double g = std::sqrt(e1 * e2);
-  Eigen::Matrix3d c;
-  c << e1, nu * g, 0, nu * g, e2, 0, 0, 0, 0.5 * (1 - nu) * g;
-  return c / (1 - nu * nu);  // Eq. 4
-}
-
 PlateEnergy make_plate_energy(const Eigen::MatrixXd& plate, const Eigen::MatrixXi& F,
-                              const RestForms& rest_forms, const Stiffness& stiffness) {
+                              const RestForms& rest_forms) {
   if (plate.cols() != 2) {
     throw UserError(ErrorCategory::kGeometry,
                     fmt::format("the plate has {} coordinates per vertex: give the flat plate as "
@@ -284,22 +271,15 @@ PlateEnergy make_plate_energy(const Eigen::MatrixXd& plate, const Eigen::MatrixX
   if (rest_forms.num_faces() != num_faces ||
       static_cast<int>(rest_forms.rest_first_fundamental_form.size()) != num_faces ||
       static_cast<int>(rest_forms.rest_second_fundamental_form.size()) != num_faces ||
-      rest_forms.material_angle.size() != num_faces) {
+      static_cast<int>(rest_forms.stiffness.size()) != num_faces) {
     throw UserError(ErrorCategory::kOption,
                     fmt::format("the rest forms have {} faces but the plate has {}: compute them "
                                 "for this plate",
                                 rest_forms.num_faces(), num_faces));
   }
-  if (!(stiffness.young_modulus_along > 0) || !(stiffness.young_modulus_across > 0) ||
-      !(stiffness.poisson_ratio >= 0 && stiffness.poisson_ratio < 1)) {
-    throw UserError(ErrorCategory::kOption,
-                    "stiffness out of range: the Young's moduli must be positive and the Poisson "
-                    "ratio in [0, 1)");
-  }
   PlateEnergy out;
   out.num_vertices = static_cast<int>(plate.rows());
   out.F = F;
-  out.elasticity = orthotropic_elasticity_tensor(stiffness);
 
   const EdgeTopology topology = edge_topology(F);
   out.element_vertices.resize(num_faces, 6);
@@ -331,38 +311,28 @@ PlateEnergy make_plate_energy(const Eigen::MatrixXd& plate, const Eigen::MatrixX
           ErrorCategory::kOption,
           fmt::format("face {} has thickness {} mm: thicknesses must be positive", f, t));
     }
-    const Eigen::Matrix2d& a_bar = rest_forms.rest_first_fundamental_form[f];
-    const Eigen::Matrix2d& b_bar = rest_forms.rest_second_fundamental_form[f];
-    const Eigen::Matrix2d a_bar_inv = inverse_checked(a_bar, f, "the rest first fundamental form");
-    const Eigen::Matrix2d rot = rotation(rest_forms.material_angle(f));
-    // Eq. 3: the strain in the material frame, scaled by the rest metric.
-    auto material_strain = [&](const Eigen::Matrix2d& eps) {
-      return voigt(rot.transpose() * a_bar_inv * eps * rot);
-    };
-
     PlateEnergy::FaceConstants& c = out.faces[f];
     c.inverse_rest_edges = rest_edges.inverse();
+    c.rest_area = 0.5 * double_area;
     const Eigen::Matrix2d& d = c.inverse_rest_edges;
     // a = Dᵀ G D with G = [[u·u, u·v], [u·v, v·v]] and D the inverse rest edges.
     const Eigen::Matrix2d unit[3] = {(Eigen::Matrix2d() << 1, 0, 0, 0).finished(),
                                      (Eigen::Matrix2d() << 0, 0, 0, 1).finished(),
                                      (Eigen::Matrix2d() << 0, 1, 1, 0).finished()};
+    c.strain_map.setZero();
     for (int j = 0; j < 3; ++j) {
-      c.membrane_map.col(j) = material_strain(d.transpose() * unit[j] * d);
+      const Eigen::Matrix2d a = d.transpose() * unit[j] * d;
+      c.strain_map.block<3, 1>(0, j) = Eigen::Vector3d(a(0, 0), a(1, 1), a(0, 1));
     }
-    c.membrane_offset = material_strain(a_bar);
     // b = Σ_k φ_k K_k, K_k = m̂ m̂ᵀ ℓ̂²/(2Â)² for the rest edge k (corner k to k+1).
     for (int k = 0; k < 3; ++k) {
       const Eigen::Vector2d edge = p[(k + 1) % 3] - p[k];
       const Eigen::Vector2d normal(edge.y(), -edge.x());  // length ℓ̂: m̂ ℓ̂
       const Eigen::Matrix2d kk = normal * normal.transpose() / (double_area * double_area);
-      c.bending_map.col(k) = material_strain(kk);
+      c.strain_map.block<3, 1>(3, 3 + k) = Eigen::Vector3d(kk(0, 0), kk(1, 1), kk(0, 1));
     }
-    for (int j = 0; j < 3; ++j) c.rest_strain_map.col(j) = material_strain(unit[j]);
-    c.bending_offset = material_strain(b_bar);
-    const double volume_factor = 0.5 * double_area * std::sqrt(a_bar.determinant());
-    c.membrane_weight = volume_factor * t / 4;  // Eq. 2, 8
-    c.bending_weight = volume_factor * t * t * t / 12;
+    set_face_rest_forms(c, rest_forms.rest_first_fundamental_form[f],
+                        rest_forms.rest_second_fundamental_form[f], rest_forms.stiffness[f], f);
   }
 
   // Hessian pattern: the lower triangle of every element's 18 x 18 block.
@@ -475,55 +445,47 @@ Eigen::Vector2d plate_energy_terms(const PlateEnergy& energy, const Eigen::Vecto
   return terms;
 }
 
-void set_rest_second_fundamental_forms(PlateEnergy& energy,
-                                       const std::vector<Eigen::Matrix2d>& rest_second_forms) {
-  if (rest_second_forms.size() != energy.faces.size()) {
+void set_rest_forms(PlateEnergy& energy, const RestForms& rest_forms) {
+  if (rest_forms.num_faces() != static_cast<int>(energy.faces.size()) ||
+      rest_forms.stiffness.size() != energy.faces.size() ||
+      rest_forms.rest_first_fundamental_form.size() != energy.faces.size() ||
+      rest_forms.rest_second_fundamental_form.size() != energy.faces.size()) {
     throw UserError(ErrorCategory::kOption,
-                    fmt::format("{} rest second fundamental forms for {} faces: give one per face",
-                                rest_second_forms.size(), energy.faces.size()));
+                    fmt::format("rest forms of {} faces for a plate of {}: give one per face",
+                                rest_forms.num_faces(), energy.faces.size()));
   }
   for (size_t f = 0; f < energy.faces.size(); ++f) {
-    const Eigen::Matrix2d& b = rest_second_forms[f];
-    energy.faces[f].bending_offset = energy.faces[f].rest_strain_map *
-                                     Eigen::Vector3d(b(0, 0), b(1, 1), 0.5 * (b(0, 1) + b(1, 0)));
+    set_face_rest_forms(energy.faces[f], rest_forms.rest_first_fundamental_form[f],
+                        rest_forms.rest_second_fundamental_form[f], rest_forms.stiffness[f],
+                        static_cast<int>(f));
   }
 }
 
-Eigen::SparseMatrix<double> rest_curvature_mixed_derivative(
-    const PlateEnergy& energy, const Eigen::VectorXd& x,
-    const std::vector<Eigen::Matrix2d>& directions) {
+Eigen::SparseMatrix<double> rest_forms_mixed_derivative(const PlateEnergy& energy,
+                                                        const Eigen::VectorXd& x,
+                                                        const LaminateDerivative& derivative) {
   const int num_faces = static_cast<int>(energy.F.rows());
-  if (static_cast<int>(directions.size()) != num_faces) {
+  if (static_cast<int>(derivative.stiffness.size()) != num_faces ||
+      static_cast<int>(derivative.rest.size()) != num_faces) {
     throw UserError(ErrorCategory::kOption,
-                    fmt::format("{} rest curvature directions for {} faces: give one per face",
-                                directions.size(), num_faces));
+                    fmt::format("rest form derivatives of {} faces for a plate of {}: give one "
+                                "per face",
+                                derivative.rest.size(), num_faces));
   }
   std::vector<Vec18> columns(num_faces);
-  tbb::parallel_for(tbb::blocked_range<int>(0, num_faces, 64), [&](const tbb::blocked_range<int>&
-                                                                       range) {
-    for (int f = range.begin(); f != range.end(); ++f) {
-      const PlateEnergy::FaceConstants& c = energy.faces[f];
-      const auto& ev = energy.element_vertices.row(f);
-      const Eigen::Vector3d xs[3] = {position(x, ev(0)), position(x, ev(1)), position(x, ev(2))};
-      Eigen::Matrix<double, 3, kElementSize> jphi = Eigen::Matrix<double, 3, kElementSize>::Zero();
-      for (int k = 0; k < 3; ++k) {
-        const int l = ev(3 + k);
-        if (l < 0) continue;
-        const HingeDerivatives h =
-            hinge_derivatives(xs[k], xs[(k + 1) % 3], xs[(k + 2) % 3], position(x, l));
-        const int slot[4] = {k, (k + 1) % 3, (k + 2) % 3, 3 + k};
-        for (int p = 0; p < 4; ++p) {
-          jphi.block<1, 3>(k, 3 * slot[p]) = h.gradient.segment<3>(3 * p).transpose();
+  tbb::parallel_for(
+      tbb::blocked_range<int>(0, num_faces, 64), [&](const tbb::blocked_range<int>& range) {
+        for (int f = range.begin(); f != range.end(); ++f) {
+          const PlateEnergy::FaceConstants& c = energy.faces[f];
+          HingeDerivatives hinge[3];
+          const Vector6d r = face_scalars(energy, f, x, hinge);
+          const Vector6d strain = c.strain_map * r - c.rest;
+          const Vector6d d_stress = 0.5 * c.rest_area * (derivative.stiffness[f] * strain) -
+                                    c.weighted_stiffness * derivative.rest[f];
+          columns[f] = scalar_jacobian(energy, f, x, hinge).transpose() *
+                       (c.strain_map.transpose() * d_stress);
         }
-      }
-      const Eigen::Matrix2d& g = directions[f];
-      const Eigen::Vector3d strain_g =
-          c.rest_strain_map * Eigen::Vector3d(g(0, 0), g(1, 1), 0.5 * (g(0, 1) + g(1, 0)));
-      // ∂W/∂x = 2 w_b jphiᵀ Pᵀ C (P φ − c(s)), ∂c/∂s = strain_g.
-      columns[f] = -2 * c.bending_weight * jphi.transpose() *
-                   (c.bending_map.transpose() * (energy.elasticity * strain_g));
-    }
-  });
+      });
   std::vector<Eigen::Triplet<double>> triplets;
   triplets.reserve(static_cast<size_t>(num_faces) * kElementSize);
   for (int f = 0; f < num_faces; ++f) {
@@ -544,15 +506,15 @@ double hinge_bending_measure(const Eigen::Vector3d& xi, const Eigen::Vector3d& x
 }
 
 double unit_strain_energy(const Eigen::MatrixXd& plate, const Eigen::MatrixXi& F,
-                          const Eigen::VectorXd& thickness, const Stiffness& stiffness) {
+                          const RestForms& rest_forms) {
   double sum = 0;
   for (int f = 0; f < F.rows(); ++f) {
     Eigen::Matrix2d edges;
     edges << (plate.row(F(f, 1)) - plate.row(F(f, 0))).transpose(),
         (plate.row(F(f, 2)) - plate.row(F(f, 0))).transpose();
-    sum += 0.5 * std::abs(edges.determinant()) * thickness(f);
+    sum += 0.5 * std::abs(edges.determinant()) * rest_forms.energy_scale(f);
   }
-  return stiffness.young_modulus_along * sum;
+  return sum;
 }
 
 }  // namespace flatmorph

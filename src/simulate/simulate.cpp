@@ -26,7 +26,7 @@ SimulationResult simulate(const PlateProblem& problem, const Eigen::MatrixXd& st
                     "the start shape has NaN or infinite coordinates: fix the input mesh");
   }
   const PlateEnergy energy =
-      make_plate_energy(problem.plate, problem.F, problem.rest_forms, problem.stiffness);
+      make_plate_energy(problem.plate, problem.F, problem.rest_forms);
 
   const RigidFrame frame = central_face_frame(problem.plate, problem.F, start, "the start shape");
   const Eigen::VectorXd x0 = to_frame(frame, start);
@@ -42,7 +42,7 @@ SimulationResult simulate(const PlateProblem& problem, const Eigen::MatrixXd& st
   newton_options.max_iterations = options.max_iterations;
   newton_options.tolerance =
       options.relative_tolerance *
-      unit_strain_energy(problem.plate, problem.F, problem.rest_forms.thickness, problem.stiffness);
+      unit_strain_energy(problem.plate, problem.F, problem.rest_forms);
   const NewtonResult r = newton_minimize(newton, x0, newton_options);
 
   SimulationResult out;

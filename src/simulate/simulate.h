@@ -23,8 +23,7 @@ namespace flatmorph {
 struct PlateProblem {
   Eigen::MatrixXd plate;  // #V x 2, mm, the printed plate
   Eigen::MatrixXi F;      // #F x 3, counter-clockwise in the plate
-  RestForms rest_forms;   // per face ā, b̄ (1/mm), thickness (mm), material angle (rad)
-  Stiffness stiffness;
+  RestForms rest_forms;   // per face ā, b̄ (1/mm), stiffness, thickness (mm): laminate(stack)
 };
 
 struct SimulationOptions {

@@ -3,6 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <iostream>
+#include <random>
+#include <vector>
 
 #include "common/error.h"
 #include "plate/layer_stack.h"
@@ -13,6 +16,33 @@ namespace {
 Material paper_material() { return Material{}; }  // the defaults are the paper's PLA
 
 double max_abs(const Eigen::Matrix2d& m) { return m.cwiseAbs().maxCoeff(); }
+
+// The Shrink & Morph continuous model's closed forms (Eq. 7, 15-17), first order in θ2 and Δλ1,
+// over the post-heating thickness t = λ3 h:
+//   ā = R(θ1) diag(λ1², λ2²) R(θ1)ᵀ
+//   b̄ = θ2 (λ2² − λ1²)/(2t) R(θ1) [[0,1],[1,0]] R(θ1)ᵀ − (Δλ1 λ1 / t) R(θ1) [[1,0],[0,0]] R(θ1)ᵀ
+struct ClosedForms {
+  std::vector<Eigen::Matrix2d> rest_first_fundamental_form, rest_second_fundamental_form;
+  Eigen::VectorXd thickness;
+};
+ClosedForms shrink_morph_rest_forms(const Eigen::VectorXd& theta1, const Eigen::VectorXd& theta2,
+                                    const Material& m, double printed_thickness) {
+  ClosedForms out;
+  const double l1 = m.lambda1, l2 = m.lambda2, t = m.lambda3 * printed_thickness;
+  out.thickness = Eigen::VectorXd::Constant(theta1.size(), t);
+  Eigen::Matrix2d swap, along;
+  swap << 0, 1, 1, 0;
+  along << 1, 0, 0, 0;
+  for (Eigen::Index f = 0; f < theta1.size(); ++f) {
+    const Eigen::Matrix2d r = rotation(theta1(f));
+    out.rest_first_fundamental_form.push_back(r * Eigen::Vector2d(l1 * l1, l2 * l2).asDiagonal() *
+                                              r.transpose());
+    out.rest_second_fundamental_form.push_back(
+        r * (theta2(f) * (l2 * l2 - l1 * l1) / (2 * t) * swap - m.delta_lambda1 * l1 / t * along) *
+        r.transpose());
+  }
+  return out;
+}
 
 // A stack whose layer k is printed at the continuous model's angle at the layer's mid-height,
 // θ1 + s_k θ2 with s_k = (k - 1/2)/n - 1/2 (instead of the paper's printing rule).
@@ -31,7 +61,7 @@ TEST(Laminate, NoThetaVariationGivesTheClosedFormsExactly) {
   const Eigen::VectorXd theta2 = Eigen::VectorXd::Zero(3);
   for (int n : {1, 2, 10, 37}) {
     const RestForms lam = laminate(shrink_morph_layer_stack(theta1, theta2, m, n, 0.08));
-    const RestForms closed = shrink_morph_rest_forms(theta1, theta2, m, n * 0.08);
+    const ClosedForms closed = shrink_morph_rest_forms(theta1, theta2, m, n * 0.08);
     for (int f = 0; f < 3; ++f) {
       // ā gains the O(Δλ1²) term the first-order expansion drops: ⟨(z/h)²⟩ Δλ1² = Δλ1²/12
       // along the path.
@@ -39,25 +69,27 @@ TEST(Laminate, NoThetaVariationGivesTheClosedFormsExactly) {
       const Eigen::Matrix2d second_order =
           r * Eigen::Vector2d(m.delta_lambda1 * m.delta_lambda1 / 12, 0).asDiagonal() *
           r.transpose();
+      // The fit is weighted by each layer's stiffness relative to its own rest metric (∝ 1/λ1⁴
+      // along the path), which varies with z by O(Δλ1): it moves ā and b̄ at O(Δλ1²) relative.
+      const double d2 = m.delta_lambda1 * m.delta_lambda1;
       EXPECT_LT(max_abs(lam.rest_first_fundamental_form[f] - closed.rest_first_fundamental_form[f] -
                         second_order),
-                1e-14);
-      // b̄ (Eq. 17): exact, because λ1 is linear in z within each layer.
+                d2 * d2);
+      // b̄ (Eq. 17) to first order in Δλ1.
       EXPECT_LT(
           max_abs(lam.rest_second_fundamental_form[f] - closed.rest_second_fundamental_form[f]),
-          1e-13);
+          4 * d2 * closed.rest_second_fundamental_form[f].norm());
       EXPECT_NEAR(lam.thickness(f), m.lambda3 * n * 0.08, 1e-14);
       EXPECT_NEAR(closed.thickness(f), m.lambda3 * n * 0.08, 1e-14);
-      EXPECT_NEAR(std::remainder(lam.material_angle(f) - theta1(f), M_PI), 0.0, 1e-14);
     }
   }
   // Without the bilayer term, ā is the closed form exactly.
   m.delta_lambda1 = 0;
   const RestForms lam = laminate(shrink_morph_layer_stack(theta1, theta2, m, 10, 0.08));
-  const RestForms closed = shrink_morph_rest_forms(theta1, theta2, m, 0.8);
+  const ClosedForms closed = shrink_morph_rest_forms(theta1, theta2, m, 0.8);
   for (int f = 0; f < 3; ++f) {
     EXPECT_LT(max_abs(lam.rest_first_fundamental_form[f] - closed.rest_first_fundamental_form[f]),
-              1e-15);
+              1e-14);
   }
 }
 
@@ -65,7 +97,7 @@ TEST(Laminate, BilayerCurvatureMatchesPaperNumbers) {
   // Eq. 17 with the paper's PLA: b̄ = −Δλ1 λ1 / t along the path, t = λ3 h = 1.216 mm for
   // 10 × 0.08 mm, i.e. 0.0226765 × 0.58 / 1.216 = 0.010816 /mm.
   const Material m = paper_material();
-  const RestForms closed =
+  const ClosedForms closed =
       shrink_morph_rest_forms(Eigen::VectorXd::Zero(1), Eigen::VectorXd::Zero(1), m, 0.8);
   EXPECT_NEAR(closed.rest_second_fundamental_form[0](0, 0), 0.0226764665509417 * 0.58 / 1.216,
               1e-12);
@@ -74,29 +106,34 @@ TEST(Laminate, BilayerCurvatureMatchesPaperNumbers) {
 }
 
 // The θ2 part of b̄ (Eq. 7) from a stack sampled at layer mid-heights converges to the closed form
-// as 1 − 1/n² (the least-squares slope of a staircase) and 1 − θ2²/10 (the next term of sin 2sθ2).
+// as 1 − 1/n² (the least-squares slope of a staircase) at small θ2, and to second order in θ2 with
+// many layers (the layers' stiffness turns with them and weights the fit: the unweighted fit's
+// θ2²/10 becomes about 0.75 θ2² for the paper's PLA).
 TEST(Laminate, TwistConvergesToTheClosedFormAsPredicted) {
   Material m = paper_material();
   m.delta_lambda1 = 0;  // isolate the θ2 term
   const double theta1 = 0.4;
   auto relative_error = [&](double theta2, int n) {
     const RestForms lam = laminate(midpoint_stack(theta1, theta2, m, n));
-    const RestForms closed =
+    const ClosedForms closed =
         shrink_morph_rest_forms(Eigen::VectorXd::Constant(1, theta1),
                                 Eigen::VectorXd::Constant(1, theta2), m, n * m.layer_height);
     const Eigen::Matrix2d& b = lam.rest_second_fundamental_form[0];
     const Eigen::Matrix2d& c = closed.rest_second_fundamental_form[0];
     return (b - c).norm() / c.norm();
   };
-  // O(1/n²) at small θ2: the error is 1/n² to within the θ2² term (1e-7).
+  // O(1/n²) at small θ2 (the weighting adds O(θ2) = 1e-6 here).
   for (int n : {4, 8, 16, 32}) {
-    EXPECT_NEAR(relative_error(1e-3, n), 1.0 / (n * n), 2e-7) << "n=" << n;
+    EXPECT_NEAR(relative_error(1e-3, n), 1.0 / (n * n), 1e-6) << "n=" << n;
   }
-  // O(θ2²) with many layers: the error is θ2²/10 (+ 1/n² = 1e-6).
-  for (double theta2 : {0.05, 0.1, 0.2}) {
-    EXPECT_NEAR(relative_error(theta2, 1000), theta2 * theta2 / 10, 2e-6 + 0.01 * theta2 * theta2)
-        << "theta2=" << theta2;
-  }
+  // O(θ2²) with many layers: error / θ2² settles as θ2 -> 0.
+  const double c1 = relative_error(0.0125, 1000) / (0.0125 * 0.0125);
+  const double c2 = relative_error(0.025, 1000) / (0.025 * 0.025);
+  const double c3 = relative_error(0.05, 1000) / (0.05 * 0.05);
+  EXPECT_NEAR(c2, c1, 0.02 * c1);
+  EXPECT_NEAR(c3, c1, 0.05 * c1);
+  EXPECT_GT(c1, 0.1);
+  EXPECT_LT(c1, 2.0);
 }
 
 // The paper's printing rule θ^k = θ1 + ((k−1)/(n−1) − 1/2) θ2 puts the outer layers at ±θ2/2 while
@@ -112,7 +149,7 @@ TEST(Laminate, PaperPrintingRuleTwistsByNPlusOneOverN) {
     EXPECT_NEAR(s.layers.front().theta(0), -1.1 - theta2 / 2, 1e-15);
     EXPECT_NEAR(s.layers.back().theta(0), -1.1 + theta2 / 2, 1e-15);
     const RestForms lam = laminate(s);
-    const RestForms closed = shrink_morph_rest_forms(
+    const ClosedForms closed = shrink_morph_rest_forms(
         Eigen::VectorXd::Constant(1, -1.1), Eigen::VectorXd::Constant(1, theta2), m, n * 0.08);
     const double ratio =
         lam.rest_second_fundamental_form[0].norm() / closed.rest_second_fundamental_form[0].norm();
@@ -141,8 +178,8 @@ TEST(Laminate, FlippedStackFlipsTheRestCurvature) {
   for (Layer& l : flipped.layers) l.delta_lambda1 = -l.delta_lambda1;  // top and bottom swap
   const RestForms a = laminate(s), b = laminate(flipped);
   EXPECT_GT(a.rest_second_fundamental_form[0].norm(), 1e-3);
-  EXPECT_LT(max_abs(a.rest_second_fundamental_form[0] + b.rest_second_fundamental_form[0]), 1e-15);
-  EXPECT_LT(max_abs(a.rest_first_fundamental_form[0] - b.rest_first_fundamental_form[0]), 1e-15);
+  EXPECT_LT(max_abs(a.rest_second_fundamental_form[0] + b.rest_second_fundamental_form[0]), 1e-14);
+  EXPECT_LT(max_abs(a.rest_first_fundamental_form[0] - b.rest_first_fundamental_form[0]), 1e-14);
 }
 
 TEST(Laminate, UncoveredLayersAreLeftOutOfTheFace) {
@@ -159,15 +196,150 @@ TEST(Laminate, UncoveredLayersAreLeftOutOfTheFace) {
   EXPECT_LT(max_abs(lam.rest_second_fundamental_form[1]), 1e-15);
   EXPECT_NEAR(lam.rest_first_fundamental_form[1](0, 0), m.lambda1 * m.lambda1, 1e-15);
   // The 0/90 bilayer: the top (90°) shrinks along y, the bottom along x, so the plate is concave
-  // on top along y and convex along x. C̄_xx steps from λ1² (bottom half) to λ2² (top half), so
-  // b̄_xx = −(6/t³) ∫ z' C̄_xx dz' = −(3/(4t)) (λ2² − λ1²), and b̄_yy the opposite.
-  const double t = lam.thickness(0);
-  const double jump = m.lambda2 * m.lambda2 - m.lambda1 * m.lambda1;
-  EXPECT_NEAR(lam.rest_second_fundamental_form[0](0, 0), -0.75 * jump / t, 1e-12);
-  EXPECT_NEAR(lam.rest_second_fundamental_form[0](1, 1), 0.75 * jump / t, 1e-12);
+  // on top along y and convex along x, by the same amount (a quarter turn and a flip swap them).
+  EXPECT_LT(lam.rest_second_fundamental_form[0](0, 0), 0.0);
+  EXPECT_NEAR(lam.rest_second_fundamental_form[0](1, 1), -lam.rest_second_fundamental_form[0](0, 0),
+              1e-12);
   // A face with no layer at all is a user error.
   s.layers[0].material(1) = Layer::kNotCovered;
   EXPECT_THROW(laminate(s), UserError);
+}
+
+// A face of two materials, random directions, thicknesses and λ's, one layer left out.
+LayerStack random_two_material_stack(unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> uni(-1.0, 1.0);
+  Material pla = paper_material(), tpu = paper_material();
+  tpu.lambda1 = tpu.lambda2 = tpu.lambda3 = 1.0;
+  tpu.delta_lambda1 = 0;
+  tpu.young_modulus_along = tpu.young_modulus_across = 0.7;
+  tpu.poisson_ratio = 0.45;
+  LayerStack s;
+  s.materials = {pla, tpu};
+  for (int k = 0; k < 5; ++k) {
+    Layer l = uniform_layer(1, k % 2, s.materials[k % 2], 0.1 + 0.05 * uni(rng));
+    l.theta(0) = 3 * uni(rng);
+    l.lambda1(0) *= 1 + 0.05 * uni(rng);
+    l.delta_lambda1(0) = 0.02 * uni(rng);
+    l.lambda2(0) *= 1 + 0.05 * uni(rng);
+    l.lambda3(0) *= 1 + 0.05 * uni(rng);
+    if (k == 2) l.material(0) = Layer::kNotCovered;
+    s.layers.push_back(l);
+  }
+  return s;
+}
+
+// The energy per unit area ¼ Σ_k ∫ ‖a − 2zb − C̄_k(z)‖²_{P_k} dz by brute-force quadrature, written
+// from the definition (each layer's own rest metric and material norm), s = (a00, a11, a01, b00,
+// b11, b01).
+double integrated_energy(const LayerStack& stack, const Vector6d& s) {
+  double t = 0;
+  for (const Layer& l : stack.layers) {
+    if (l.covers(0)) t += l.lambda3(0) * l.printed_thickness(0);
+  }
+  const Eigen::Vector3d a(s(0), s(1), s(2)), b(s(3), s(4), s(5));
+  double energy = 0, bottom = -t / 2;
+  for (const Layer& l : stack.layers) {
+    if (!l.covers(0)) continue;
+    const double tau = l.lambda3(0) * l.printed_thickness(0);
+    const Eigen::Matrix2d r = rotation(l.theta(0));
+    const Eigen::Matrix2d mid_metric =
+        r * Eigen::Vector2d(l.lambda1(0) * l.lambda1(0), l.lambda2(0) * l.lambda2(0)).asDiagonal() *
+        r.transpose();
+    const Eigen::Matrix3d p =
+        material_norm(mid_metric, l.theta(0), stiffness_of(stack.materials[l.material(0)]));
+    const int samples = 4000;
+    for (int i = 0; i < samples; ++i) {
+      const double u = (i + 0.5) / samples;  // midpoint rule within the layer
+      const double z = bottom + u * tau;
+      const double lambda1 = l.lambda1(0) + l.delta_lambda1(0) * (u - 0.5);
+      const Eigen::Matrix2d c =
+          r * Eigen::Vector2d(lambda1 * lambda1, l.lambda2(0) * l.lambda2(0)).asDiagonal() *
+          r.transpose();
+      const Eigen::Vector3d e = a - 2 * z * b - Eigen::Vector3d(c(0, 0), c(1, 1), c(0, 1));
+      energy += 0.25 * e.dot(p * e) * tau / samples;
+    }
+    bottom += tau;
+  }
+  return energy;
+}
+
+// Classical lamination theory as built: W(s) − W(s̄) = ¼ (s − s̄)ᵀ K (s − s̄) for the stiffness K and
+// rest forms s̄ the laminate returns, checked against the integral itself.
+TEST(Laminate, StiffnessAndRestFormsAreThoseOfTheIntegratedEnergy) {
+  for (unsigned seed : {1u, 2u, 3u}) {
+    const LayerStack stack = random_two_material_stack(seed);
+    const RestForms lam = laminate(stack);
+    const Vector6d rest =
+        rest_vector(lam.rest_first_fundamental_form[0], lam.rest_second_fundamental_form[0]);
+    const Matrix6d& k = lam.stiffness[0];
+    const double coupling = k.topRightCorner<3, 3>().norm();
+    EXPECT_GT(coupling, 1e-3 * k.norm());  // membrane-bending coupling
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> uni(-1.0, 1.0);
+    const double at_rest = integrated_energy(stack, rest);
+    for (int trial = 0; trial < 4; ++trial) {
+      Vector6d d;
+      for (int i = 0; i < 6; ++i) d(i) = 0.01 * uni(rng);
+      const double expected = 0.25 * d.dot(k * d);
+      EXPECT_NEAR(integrated_energy(stack, rest + d) - at_rest, expected, 1e-6 * expected)
+          << "seed " << seed;
+    }
+  }
+}
+
+// The exact derivative of K and s̄ when the layers turn, against central differences.
+TEST(Laminate, AngleDerivativeMatchesFiniteDifferences) {
+  const LayerStack stack = random_two_material_stack(4);
+  const std::vector<double> rates = {0.3, -1.0, 0.5, 2.0, -0.7};
+  LaminateDerivative derivative;
+  laminate(stack, rates, derivative);
+  const double h = 1e-6;
+  RestForms at[2];
+  for (int side = 0; side < 2; ++side) {
+    LayerStack moved = stack;
+    for (int k = 0; k < moved.num_layers(); ++k)
+      moved.layers[k].theta(0) += (side ? -h : h) * rates[k];
+    at[side] = laminate(moved);
+  }
+  const Matrix6d dk = (at[0].stiffness[0] - at[1].stiffness[0]) / (2 * h);
+  const Vector6d ds =
+      (rest_vector(at[0].rest_first_fundamental_form[0], at[0].rest_second_fundamental_form[0]) -
+       rest_vector(at[1].rest_first_fundamental_form[0], at[1].rest_second_fundamental_form[0])) /
+      (2 * h);
+  EXPECT_LT((dk - derivative.stiffness[0]).norm(), 1e-6 * dk.norm());
+  EXPECT_LT((ds - derivative.rest[0]).norm(), 1e-6 * ds.norm());
+  EXPECT_GT(ds.norm(), 1e-3);
+}
+
+// One PLA layer on one TPU layer, equally thick, PLA 14 times stiffer and shrinking isotropically
+// by 1 %, TPU not at all: the free curvature is Timoshenko's bilayer formula (1925),
+// κ = 6 Δε (1 + m)² / (h (3 (1 + m)² + (1 + m n)(m² + 1/(m n)))) with m = 1 the thickness ratio, n
+// the stiffness ratio (the biaxial moduli E/(1 − ν) have the same ratio for equal ν), h the total
+// thickness; the PLA on top shrinks, so the plate bends toward its top: b̄ = κ I.
+TEST(Laminate, PlaOnTpuBilayerBendsAsTimoshenko) {
+  Material pla, tpu;
+  pla.lambda1 = pla.lambda2 = 0.99;
+  pla.lambda3 = 1.0;
+  pla.delta_lambda1 = 0;
+  pla.young_modulus_along = pla.young_modulus_across = 14.0;
+  pla.poisson_ratio = tpu.poisson_ratio = 0.4;
+  tpu.lambda1 = tpu.lambda2 = tpu.lambda3 = 1.0;
+  tpu.delta_lambda1 = 0;
+  tpu.young_modulus_along = tpu.young_modulus_across = 1.0;
+  LayerStack s;
+  s.materials = {pla, tpu};
+  s.layers.push_back(uniform_layer(1, 1, tpu, 0.5));  // on the bed
+  s.layers.push_back(uniform_layer(1, 0, pla, 0.5));
+  const RestForms lam = laminate(s);
+  const double m = 1, n = 14, h = 1.0, strain = 0.01;
+  const double kappa = 6 * strain * (1 + m) * (1 + m) /
+                       (h * (3 * (1 + m) * (1 + m) + (1 + m * n) * (m * m + 1 / (m * n))));
+  const Eigen::Matrix2d& b = lam.rest_second_fundamental_form[0];
+  EXPECT_NEAR(b(0, 0), kappa, 0.05 * kappa);
+  EXPECT_NEAR(b(1, 1), kappa, 0.05 * kappa);
+  EXPECT_NEAR(b(0, 1), 0.0, 1e-12);
+  std::cout << "PLA on TPU: b = " << b(0, 0) << " /mm, Timoshenko " << kappa << " /mm\n";
 }
 
 TEST(Laminate, BadInputsAreUserErrors) {

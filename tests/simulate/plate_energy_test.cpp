@@ -14,6 +14,7 @@
 
 #include "common/error.h"
 #include "mesh/topology.h"
+#include "plate/laminate.h"
 #include "plate/plate_fixtures.h"
 
 namespace flatmorph {
@@ -24,11 +25,28 @@ using testing::flatten_positions;
 using testing::rectangle_plate;
 using testing::TestPlate;
 
+// Rest forms of one material along one direction per face: the orthotropic energy of Eq. 8, the
+// special case of a laminate (single_material_rest_forms).
+struct OrthotropicRest {
+  std::vector<Eigen::Matrix2d> rest_first_fundamental_form, rest_second_fundamental_form;
+  Eigen::VectorXd thickness, material_angle;
+  int num_faces() const { return static_cast<int>(thickness.size()); }
+};
+
+PlateEnergy make_plate_energy(const Eigen::MatrixXd& plate, const Eigen::MatrixXi& F,
+                              const OrthotropicRest& rest, const Stiffness& stiffness) {
+  return flatmorph::make_plate_energy(
+      plate, F,
+      single_material_rest_forms(rest.rest_first_fundamental_form,
+                                 rest.rest_second_fundamental_form, rest.thickness,
+                                 rest.material_angle, stiffness));
+}
+
 // A small rectangle with jittered vertices, random per-face rest forms (SPD ā, any b̄), random
 // material angles and thicknesses.
 struct RandomCase {
   TestPlate plate;
-  RestForms rest;
+  OrthotropicRest rest;
   Stiffness stiffness;
   Eigen::VectorXd x;  // a random 3D state near the plate
 };
@@ -107,6 +125,35 @@ TEST(PlateEnergy, GradientAndHessianMatchFiniteDifferences) {
   }
 }
 
+// A laminate of two materials with random layer directions, thicknesses and coverage: its stiffness
+// couples membrane and bending (B != 0), which the orthotropic cases above never exercise.
+TEST(PlateEnergy, LaminateWithCouplingMatchesFiniteDifferences) {
+  const RandomCase c = random_case(11, 3, 2);
+  const int nf = c.rest.num_faces();
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> uni(-1.0, 1.0);
+  Material pla, tpu;
+  tpu.lambda1 = tpu.lambda2 = tpu.lambda3 = 1.0;
+  tpu.delta_lambda1 = 0;
+  tpu.young_modulus_along = tpu.young_modulus_across = 0.7;
+  LayerStack stack;
+  stack.materials = {pla, tpu};
+  for (int k = 0; k < 4; ++k) {
+    Layer layer = uniform_layer(nf, k % 2, stack.materials[k % 2], 0.1);
+    for (int f = 0; f < nf; ++f) {
+      layer.theta(f) = 3 * uni(rng);
+      layer.printed_thickness(f) = 0.1 + 0.05 * uni(rng);
+      if (k == 3 && f % 3 == 0) layer.material(f) = Layer::kNotCovered;
+    }
+    stack.layers.push_back(layer);
+  }
+  const RestForms rest = laminate(stack);
+  const Eigen::Matrix3d coupling = rest.stiffness[0].topRightCorner<3, 3>();
+  ASSERT_GT(coupling.norm(), 1e-3 * rest.stiffness[0].norm());
+  const PlateEnergy energy = flatmorph::make_plate_energy(c.plate.V, c.plate.F, rest);
+  check_derivatives(energy, c.x, 1e-6);
+}
+
 TEST(PlateEnergy, BendingDerivativesAloneMatchFiniteDifferences) {
   // Thick plate, ā = I: the membrane term is small and the bending derivatives dominate the check.
   RandomCase c = random_case(9, 3, 3);
@@ -170,7 +217,7 @@ TEST(PlateEnergy, PulledBackShapeOperatorEqualsSumOfConstantTensors) {
 
 TEST(PlateEnergy, ZeroAtTheRestStateOfAFlatUnstimulatedPlate) {
   const TestPlate plate = rectangle_plate(10, 6, 5, 3);
-  RestForms rest;
+  OrthotropicRest rest;
   const int nf = static_cast<int>(plate.F.rows());
   rest.rest_first_fundamental_form.assign(nf, Eigen::Matrix2d::Identity());
   rest.rest_second_fundamental_form.assign(nf, Eigen::Matrix2d::Zero());
@@ -191,7 +238,7 @@ TEST(PlateEnergy, MembraneNormMatchesEquationThreeForAUniformStretch) {
   V << 0, 0, 2, 0, 0, 1;
   Eigen::MatrixXi F(1, 3);
   F << 0, 1, 2;
-  RestForms rest;
+  OrthotropicRest rest;
   rest.rest_first_fundamental_form = {Eigen::Matrix2d::Identity()};
   rest.rest_second_fundamental_form = {Eigen::Matrix2d::Zero()};
   rest.thickness = Eigen::VectorXd::Constant(1, 0.8);
@@ -237,7 +284,7 @@ TEST(PlateEnergy, DeterministicBitForBit) {
 
 TEST(PlateEnergy, ClockwisePlateFacesAreUserErrors) {
   TestPlate plate = rectangle_plate(4, 4, 2, 2);
-  RestForms rest;
+  OrthotropicRest rest;
   const int nf = static_cast<int>(plate.F.rows());
   rest.rest_first_fundamental_form.assign(nf, Eigen::Matrix2d::Identity());
   rest.rest_second_fundamental_form.assign(nf, Eigen::Matrix2d::Zero());

@@ -17,12 +17,11 @@
 
 namespace flatmorph {
 
-double printed_side_agreement(const FlatPlate& flat, const Material& material,
-                              double printed_thickness_mm) {
+double printed_side_agreement(const FlatPlate& flat, const Material& material, int num_layers) {
   const Eigen::MatrixXi& F = flat.target.F;
   const int nf = static_cast<int>(F.rows());
-  const RestForms rest = shrink_morph_rest_forms(flat.theta1, Eigen::VectorXd::Zero(nf), material,
-                                                 printed_thickness_mm);
+  const RestForms rest = laminate(shrink_morph_layer_stack(
+      flat.theta1, Eigen::VectorXd::Zero(nf), material, num_layers, material.layer_height));
   const std::vector<Eigen::Matrix3d> shape = shape_operators(flat.target.V, F, edge_topology(F));
   double cross = 0, target_norm = 0, rest_norm = 0;
   for (int f = 0; f < nf; ++f) {
@@ -66,13 +65,12 @@ bool clear_for(PrintedSide side, double agreement) {
 }  // namespace
 
 StretchChoice choose_initial_stretch(const Mesh& target, const FlattenOptions& options,
-                                     const Material& material, double printed_thickness_mm,
-                                     PrintedSide side) {
+                                     const Material& material, int num_layers, PrintedSide side) {
   FlattenOptions up = options;
   up.flip = false;
   StretchChoice choice;
   choice.plate = flatten(target, up);
-  choice.agreement = printed_side_agreement(choice.plate, material, printed_thickness_mm);
+  choice.agreement = printed_side_agreement(choice.plate, material, num_layers);
   choice.lowest_energy_agreement = choice.agreement;
   choice.clear = clear_for(side, choice.agreement);
   if (choice.clear || options.stretch_candidate >= 0) return choice;
@@ -81,7 +79,7 @@ StretchChoice choose_initial_stretch(const Mesh& target, const FlattenOptions& o
     if (k == choice.plate.stretch_candidate) continue;
     up.stretch_candidate = k;
     FlatPlate candidate = flatten(target, up);
-    const double agreement = printed_side_agreement(candidate, material, printed_thickness_mm);
+    const double agreement = printed_side_agreement(candidate, material, num_layers);
     if (clear_for(side, agreement) &&
         (!choice.clear ||
          candidate.feasibility.mean_deviation < choice.plate.feasibility.mean_deviation)) {
@@ -105,8 +103,7 @@ struct SideDesign {
 
 SideDesign side_design(FlatPlate flat, const DesignOptions& options) {
   SideDesign out;
-  out.problem =
-      theta2_problem(flat, options.material, options.layers * options.material.layer_height);
+  out.problem = theta2_problem(flat, options.material, options.layers);
   out.flat = std::move(flat);
   return out;
 }
@@ -128,7 +125,6 @@ Design design_shrink_morph(Mesh target, const std::string& source, const DesignO
   };
   Design out;
   DesignMetrics& m = out.metrics;
-  const double printed_thickness = options.layers * options.material.layer_height;
 
   // The design level is the repaired input Loop-subdivided to at least `faces` faces. When that
   // takes at least one step, the level one step coarser (4 times fewer faces) is where both sides
@@ -160,7 +156,7 @@ Design design_shrink_morph(Mesh target, const std::string& source, const DesignO
   const bool stretch_given = options.stretch_candidate >= 0;
   flatten_options.stretch_candidate = options.stretch_candidate;
   StretchChoice stretch = choose_initial_stretch(first_level, flatten_options, options.material,
-                                                 printed_thickness, options.side);
+                                                 options.layers, options.side);
   m.t_param_s += seconds_since(t0);
   if (stretch.searched) {
     progress("flatten",
@@ -258,13 +254,13 @@ Design design_shrink_morph(Mesh target, const std::string& source, const DesignO
       // agreement is not clear. The design level then chooses for itself.
       const PrintedSide side = flip ? PrintedSide::kNormalDown : PrintedSide::kNormalUp;
       const double agreement =
-          printed_side_agreement(chosen.flat, options.material, printed_thickness);
+          printed_side_agreement(chosen.flat, options.material, options.layers);
       if (!clear_for(side, flip ? -agreement : agreement)) {
         const auto t = Clock::now();
         FlattenOptions own = flatten_options;
         own.stretch_candidate = -1;
         StretchChoice again =
-            choose_initial_stretch(fine.mesh, own, options.material, printed_thickness, side);
+            choose_initial_stretch(fine.mesh, own, options.material, options.layers, side);
         flatten_options.stretch_candidate = again.clear ? again.plate.stretch_candidate : -1;
         count_flattening(t);
         progress("flatten", fmt::format("initial stretch {} on the design level",
@@ -319,7 +315,7 @@ Design design_shrink_morph(Mesh target, const std::string& source, const DesignO
   }
   out.flat = std::move(chosen.flat);
   out.flipped = flip;
-  out.side_agreement = printed_side_agreement(out.flat, options.material, printed_thickness);
+  out.side_agreement = printed_side_agreement(out.flat, options.material, options.layers);
   progress("flatten", fmt::format("the target's {} (curvature agreement {:.2f})", side_name(flip),
                                   out.side_agreement));
   out.optimization = std::move(chosen.optimization);

@@ -92,8 +92,7 @@ struct Design {
 // form b pulled back to the plate and the rest one b̄ (Eq. 7: the top shrinks more, so the plate
 // curls along its print direction toward its top). In [−1, 1]; negative means the other side
 // should be on top (the plate would curl the wrong way, and theta2 alone cannot undo that).
-double printed_side_agreement(const FlatPlate& flat, const Material& material,
-                              double printed_thickness_mm);
+double printed_side_agreement(const FlatPlate& flat, const Material& material, int num_layers);
 
 // Which initial stretch the flattening starts from (FlattenOptions::stretch_candidate). The plate
 // curls along its print direction with theta2 = 0, and theta2 only adds a twist: b̄ along theta1
@@ -114,8 +113,7 @@ struct StretchChoice {
   bool searched = false;               // the other stretches were tried
 };
 StretchChoice choose_initial_stretch(const Mesh& target, const FlattenOptions& options,
-                                     const Material& material, double printed_thickness_mm,
-                                     PrintedSide side);
+                                     const Material& material, int num_layers, PrintedSide side);
 
 // Runs the pipeline on a target surface (any units; the plate is options.width_mm wide). `source`
 // names the input in error messages. Throws UserError for bad options or a target that is not a

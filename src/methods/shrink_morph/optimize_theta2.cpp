@@ -61,20 +61,14 @@ class Theta2Solver {
                       "theta2 optimization: w_M and w_L must be non-negative");
     }
     nv_ = nv;
-    // Rest forms at theta2 = 0 and the direction G_f = ∂b̄_f/∂θ̄2 (b̄ is linear in θ2).
-    const RestForms zero = shrink_morph_rest_forms(problem.theta1, Eigen::VectorXd::Zero(nf),
-                                                   problem.material, problem.printed_thickness);
-    const RestForms one = shrink_morph_rest_forms(problem.theta1, Eigen::VectorXd::Ones(nf),
-                                                  problem.material, problem.printed_thickness);
-    b_bar_zero_ = zero.rest_second_fundamental_form;
-    directions_.resize(nf);
-    for (int f = 0; f < nf; ++f) {
-      directions_[f] = one.rest_second_fundamental_form[f] - zero.rest_second_fundamental_form[f];
+    problem_ = &problem;
+    for (int k = 1; k <= problem.num_layers; ++k) {
+      theta2_rates_.push_back(shrink_morph_layer_weight(k, problem.num_layers));
     }
-    const Stiffness stiffness = stiffness_of(problem.material);
-    energy_ = make_plate_energy(problem.plate, problem.F, zero, stiffness);
-    newton_tolerance_ = options.forward.relative_tolerance *
-                        unit_strain_energy(problem.plate, problem.F, zero.thickness, stiffness);
+    const RestForms zero = laminate(theta2_layer_stack(problem, Eigen::VectorXd::Zero(nv)));
+    energy_ = make_plate_energy(problem.plate, problem.F, zero);
+    newton_tolerance_ =
+        options.forward.relative_tolerance * unit_strain_energy(problem.plate, problem.F, zero);
     frame_ = central_face_frame(problem.plate, problem.F, problem.target, "the target");
     target_ = flatmorph::to_frame(frame_, problem.target);
 
@@ -119,12 +113,8 @@ class Theta2Solver {
   // The equilibrium for theta2 (per vertex) from `start` (in the frame).
   // Line-search trials pass `trial`: their own iteration cap and tolerance.
   NewtonResult forward(const Eigen::VectorXd& theta2, Eigen::VectorXd start, bool trial = false) {
-    const Eigen::VectorXd face_theta2 = face_average_ * theta2;
-    std::vector<Eigen::Matrix2d> b_bar(b_bar_zero_.size());
-    for (size_t f = 0; f < b_bar.size(); ++f) {
-      b_bar[f] = b_bar_zero_[f] + face_theta2(f) * directions_[f];
-    }
-    set_rest_second_fundamental_forms(energy_, b_bar);
+    stack_ = theta2_layer_stack(*problem_, theta2);
+    set_rest_forms(energy_, laminate(stack_));
     for (int i : frame_.fixed_variables) start(i) = 0;
     NewtonProblem newton;
     newton.num_variables = 3 * nv_;
@@ -160,8 +150,10 @@ class Theta2Solver {
   // When x is the converged result of the last forward solve, its final Newton factorization is
   // that of H at x already, and is reused.
   bool linearize(const Eigen::VectorXd& x) {
+    LaminateDerivative derivative;
+    laminate(stack_, theta2_rates_, derivative);
     Eigen::SparseMatrix<double> mixed =
-        rest_curvature_mixed_derivative(energy_, x, directions_) * face_average_;
+        rest_forms_mixed_derivative(energy_, x, derivative) * face_average_;
     mixed.prune([this](Eigen::Index row, Eigen::Index, double) { return !is_fixed_[row]; });
     sensitivity_rhs_ = mixed;
     sensitivity_rhs_t_ = mixed.transpose();
@@ -398,7 +390,9 @@ class Theta2Solver {
   const OptimizeTheta2Options& options_;
   int nv_ = 0;
   PlateEnergy energy_;
-  std::vector<Eigen::Matrix2d> b_bar_zero_, directions_;
+  const Theta2Problem* problem_ = nullptr;
+  std::vector<double> theta2_rates_;  // d theta^k / d theta2 of each layer
+  LayerStack stack_;                  // printed for the energy's current theta2
   double newton_tolerance_ = 0;
   RigidFrame frame_;
   std::vector<bool> is_fixed_;
@@ -446,26 +440,28 @@ int conjugate_gradient(const Product& product, const Eigen::VectorXd& b, double 
 
 }  // namespace
 
-Theta2Problem theta2_problem(const FlatPlate& flat, const Material& material,
-                             double printed_thickness_mm) {
+Theta2Problem theta2_problem(const FlatPlate& flat, const Material& material, int num_layers) {
   Theta2Problem problem;
   problem.plate = flat.plate;
   problem.F = flat.target.F;
   problem.target = flat.target.V;
   problem.theta1 = flat.theta1;
   problem.material = material;
-  problem.printed_thickness = printed_thickness_mm;
+  problem.num_layers = num_layers;
   return problem;
+}
+
+LayerStack theta2_layer_stack(const Theta2Problem& problem, const Eigen::VectorXd& theta2) {
+  return shrink_morph_layer_stack(problem.theta1, vertex_to_face_average(problem.F, theta2),
+                                  problem.material, problem.num_layers,
+                                  problem.material.layer_height);
 }
 
 PlateProblem theta2_plate_problem(const Theta2Problem& problem, const Eigen::VectorXd& theta2) {
   PlateProblem plate;
   plate.plate = problem.plate;
   plate.F = problem.F;
-  plate.rest_forms =
-      shrink_morph_rest_forms(problem.theta1, vertex_to_face_average(problem.F, theta2),
-                              problem.material, problem.printed_thickness);
-  plate.stiffness = stiffness_of(problem.material);
+  plate.rest_forms = laminate(theta2_layer_stack(problem, theta2));
   return plate;
 }
 

@@ -7,10 +7,13 @@
 // with m the lumped mass of the target (mm²), A its total area, ℓ = 0.3 % of the target's
 // bounding-box diagonal (so the first term is the mean squared distance in units of 0.3 % of the
 // diagonal), L the cotan Laplacian of the target (dimensionless) and x(θ2) the equilibrium of the
-// plate energy with b̄ from θ1 and the face-averaged θ2 (Eq. 7, 17), registered to the target by
-// the 3-2-1 constraint of simulate.h. The gradient is the adjoint one (Eq. 14); steps are
-// Gauss–Newton with exact sensitivities, S = dx/dθ2 = −H⁻¹ H_xθ, solved matrix-free by conjugate
-// gradients on (Sᵀ 2D S + 2 w_M M + 2 w_L L) Δθ = −g reusing the Cholesky factor of H.
+// plate energy of the exact laminate of the printed layers (θ^k from θ1 and the face-averaged θ2 by
+// the stack builder, plate/layer_stack.h; not the first-order Eq. 7, 17, which is far off for
+// |θ2| above about 1 rad), registered to the target by the 3-2-1 constraint of simulate.h. The
+// gradient is the adjoint one (Eq. 14); steps are Gauss–Newton with exact sensitivities, S = dx/dθ2
+// = −H⁻¹ H_xθ (H_xθ from the exact derivative of the laminate's ā, b̄ and stiffness with respect to
+// each face's θ2), solved matrix-free by conjugate gradients on (Sᵀ 2D S + 2 w_M M + 2 w_L L) Δθ =
+// −g reusing the Cholesky factor of H.
 #pragma once
 
 #include <Eigen/Core>
@@ -31,7 +34,9 @@ struct Theta2Problem {
   Eigen::MatrixXd target;  // #V x 3, mm, same vertices as the plate
   Eigen::VectorXd theta1;  // per face, rad
   Material material;
-  double printed_thickness = 0.8;  // h, mm (the rest forms use t = λ3 h)
+  // Printed as shrink_morph_layer_stack(theta1, face-averaged theta2, material, num_layers,
+  // material.layer_height): the exact laminate of these layers is what the objective simulates.
+  int num_layers = 10;
   // Where the first equilibrium is searched from (#V x 3, mm); empty: the target. An equilibrium
   // already found (e.g. while choosing the printed side) makes the first solve nearly free.
   Eigen::MatrixXd start;
@@ -107,9 +112,11 @@ struct Theta2Result {
   int shifted_factorizations = 0;
 };
 
-// The problem of a flattened target (flatten.h) printed printed_thickness_mm thick.
-Theta2Problem theta2_problem(const FlatPlate& flat, const Material& material,
-                             double printed_thickness_mm);
+// The problem of a flattened target (flatten.h) printed in num_layers layers of `material`.
+Theta2Problem theta2_problem(const FlatPlate& flat, const Material& material, int num_layers);
+
+// The layer stack printed for theta2 (per vertex, rad; each face takes the mean of its corners).
+LayerStack theta2_layer_stack(const Theta2Problem& problem, const Eigen::VectorXd& theta2);
 
 // The plate printed with theta2 (per vertex, rad; each face takes the mean of its corners, as the
 // optimization does), for simulate().

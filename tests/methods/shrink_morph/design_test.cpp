@@ -68,9 +68,9 @@ TEST(PrintedSideAgreement, ChangesSignWithTheSide) {
   const Material material = load_material("pla-paper");
   FlattenOptions options = flatten_options(material, 100);
   const Mesh dome = make_example("dome");
-  const double up = printed_side_agreement(flatten(dome, options), material, 0.8);
+  const double up = printed_side_agreement(flatten(dome, options), material, 10);
   options.flip = true;
-  const double down = printed_side_agreement(flatten(dome, options), material, 0.8);
+  const double down = printed_side_agreement(flatten(dome, options), material, 10);
   EXPECT_LT(up, -0.2);
   EXPECT_GT(down, 0.2);
   EXPECT_NEAR(up, -down, 0.05);
@@ -86,23 +86,24 @@ TEST(ChooseInitialStretch, TakesTheLowestEnergyStretchWhoseCurvatureAgrees) {
   top = loop_subdivide_to(top, 896).mesh;
   FlattenOptions options = flatten_options(material, 250);
   const FlatPlate lowest_energy = flatten(top, options);
-  const double h = 0.8;
+  const int layers = 10;
 
   const StretchChoice automatic =
-      choose_initial_stretch(top, options, material, h, PrintedSide::kAutomatic);
-  EXPECT_NEAR(automatic.lowest_energy_agreement, printed_side_agreement(lowest_energy, material, h),
-              1e-12);
+      choose_initial_stretch(top, options, material, layers, PrintedSide::kAutomatic);
+  EXPECT_NEAR(automatic.lowest_energy_agreement,
+              printed_side_agreement(lowest_energy, material, layers), 1e-12);
   EXPECT_LT(std::abs(automatic.lowest_energy_agreement), 0.2);
   EXPECT_TRUE(automatic.searched);
   ASSERT_TRUE(automatic.clear);
   EXPECT_NE(automatic.plate.stretch_candidate, lowest_energy.stretch_candidate);
   EXPECT_LE(automatic.agreement, -0.2);  // the normal side goes down
-  EXPECT_NEAR(automatic.agreement, printed_side_agreement(automatic.plate, material, h), 1e-12);
+  EXPECT_NEAR(automatic.agreement, printed_side_agreement(automatic.plate, material, layers),
+              1e-12);
   // It is the lowest-energy plate among the clear ones.
   for (int k = 0; k < kStretchCandidates; ++k) {
     options.stretch_candidate = k;
     const FlatPlate candidate = flatten(top, options);
-    if (std::abs(printed_side_agreement(candidate, material, h)) >= 0.2) {
+    if (std::abs(printed_side_agreement(candidate, material, layers)) >= 0.2) {
       EXPECT_GE(candidate.feasibility.mean_deviation, automatic.plate.feasibility.mean_deviation);
     }
   }
@@ -111,16 +112,16 @@ TEST(ChooseInitialStretch, TakesTheLowestEnergyStretchWhoseCurvatureAgrees) {
   // The same choice when the normal side is forced down; forced up, no stretch agrees (all the
   // clear ones are negative), so the lowest-energy one stays.
   const StretchChoice down =
-      choose_initial_stretch(top, options, material, h, PrintedSide::kNormalDown);
+      choose_initial_stretch(top, options, material, layers, PrintedSide::kNormalDown);
   EXPECT_EQ(down.plate.stretch_candidate, automatic.plate.stretch_candidate);
   const StretchChoice up =
-      choose_initial_stretch(top, options, material, h, PrintedSide::kNormalUp);
+      choose_initial_stretch(top, options, material, layers, PrintedSide::kNormalUp);
   EXPECT_FALSE(up.clear);
   EXPECT_EQ(up.plate.stretch_candidate, lowest_energy.stretch_candidate);
 
   // A clear lowest-energy stretch is kept without trying the others.
-  const StretchChoice dome =
-      choose_initial_stretch(make_example("dome"), options, material, h, PrintedSide::kAutomatic);
+  const StretchChoice dome = choose_initial_stretch(make_example("dome"), options, material, layers,
+                                                    PrintedSide::kAutomatic);
   EXPECT_TRUE(dome.clear);
   EXPECT_FALSE(dome.searched);
 }
@@ -142,10 +143,9 @@ TEST(DesignSide, DesignsBothSidesOneLevelCoarserAndKeepsTheLowerObjective) {
   DesignOptions options;
   options.material = load_material("pla-paper");
   options.width_mm = 50;
-  const double printed_thickness = options.layers * options.material.layer_height;
   ASSERT_LT(std::abs(printed_side_agreement(
                 flatten(target, flatten_options(options.material, options.width_mm)),
-                options.material, printed_thickness)),
+                options.material, options.layers)),
             0.2)
       << "the fixture must leave the side to the designs";
 
@@ -170,7 +170,7 @@ TEST(DesignSide, DesignsBothSidesOneLevelCoarserAndKeepsTheLowerObjective) {
   EXPECT_EQ(chosen.metrics.first_pass_iterations, (down_wins ? down : up).metrics.optim_iterations);
 
   // The design level starts no farther than theta2 = 0 would, and ends closer than it started.
-  const Theta2Problem problem = theta2_problem(chosen.flat, options.material, printed_thickness);
+  const Theta2Problem problem = theta2_problem(chosen.flat, options.material, options.layers);
   const double zeros_objective =
       evaluate_theta2_objective(problem, Eigen::VectorXd::Zero(problem.plate.rows()),
                                 chosen.simulated, {}, /*with_gradient=*/false)

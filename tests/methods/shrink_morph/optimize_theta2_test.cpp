@@ -36,38 +36,42 @@ Theta2Problem cap_problem(int n) {
   FlattenOptions options;
   options.width_mm = 60;
   const Material material = load_material("pla-paper");
-  return theta2_problem(flatten(mesh, options), material, 10 * material.layer_height);
+  return theta2_problem(flatten(mesh, options), material, 10);
 }
 
-TEST(RestCurvatureMixedDerivative, MatchesFiniteDifferencesOfTheGradient) {
+// ∂²W/∂x∂θ2_f through the exact laminate of the printed layers (ā, b̄ and the stiffness all move
+// with θ2), at θ2 up to 1.5 rad where the first-order model is far off.
+TEST(RestFormsMixedDerivative, MatchesFiniteDifferencesOfTheGradient) {
   const Theta2Problem problem = cap_problem(4);
   const int nf = static_cast<int>(problem.F.rows());
   std::mt19937 rng(7);
-  std::uniform_real_distribution<double> uniform(-0.2, 0.2);
+  std::uniform_real_distribution<double> uniform(-1.5, 1.5);
   Eigen::VectorXd theta2(nf);
   for (int f = 0; f < nf; ++f) theta2(f) = uniform(rng);
-  const RestForms base =
-      shrink_morph_rest_forms(problem.theta1, theta2, problem.material, problem.printed_thickness);
-  std::vector<Eigen::Matrix2d> directions(nf);
-  for (int f = 0; f < nf; ++f) {
-    directions[f] << uniform(rng), uniform(rng), 0, uniform(rng);
-    directions[f](1, 0) = directions[f](0, 1);
+  auto stack = [&](const Eigen::VectorXd& face_theta2) {
+    return shrink_morph_layer_stack(problem.theta1, face_theta2, problem.material,
+                                    problem.num_layers, problem.material.layer_height);
+  };
+  std::vector<double> rates;
+  for (int k = 1; k <= problem.num_layers; ++k) {
+    rates.push_back(shrink_morph_layer_weight(k, problem.num_layers));
   }
-  PlateEnergy energy =
-      make_plate_energy(problem.plate, problem.F, base, stiffness_of(problem.material));
+  LaminateDerivative derivative;
+  const RestForms base = laminate(stack(theta2), rates, derivative);
+  PlateEnergy energy = make_plate_energy(problem.plate, problem.F, base);
   Eigen::VectorXd x(3 * problem.plate.rows());
   for (int v = 0; v < problem.plate.rows(); ++v) {
     x.segment<3>(3 * v) = problem.target.row(v).transpose();
-    x(3 * v + 2) += uniform(rng);
+    x(3 * v + 2) += 0.1 * uniform(rng);
   }
-  const Eigen::MatrixXd mixed = rest_curvature_mixed_derivative(energy, x, directions);
-  const double h = 1e-4;
+  const Eigen::MatrixXd mixed = rest_forms_mixed_derivative(energy, x, derivative);
+  const double h = 1e-5;
   for (int f : {0, nf / 2, nf - 1}) {
     Eigen::VectorXd grad[2];
     for (int side = 0; side < 2; ++side) {
-      std::vector<Eigen::Matrix2d> b = base.rest_second_fundamental_form;
-      b[f] += (side == 0 ? h : -h) * directions[f];
-      set_rest_second_fundamental_forms(energy, b);
+      Eigen::VectorXd moved = theta2;
+      moved(f) += side == 0 ? h : -h;
+      set_rest_forms(energy, laminate(stack(moved)));
       evaluate_plate_energy(energy, x, &grad[side], nullptr, false);
     }
     const Eigen::VectorXd fd = (grad[0] - grad[1]) / (2 * h);
@@ -109,7 +113,9 @@ TEST(OptimizeTheta2, LowersTheDistanceToTheTarget) {
   const ShapeDistance before = shape_distance(r.initial_V, problem.target);
   const ShapeDistance after = shape_distance(r.V, problem.target);
   EXPECT_LT(r.objective, r.initial_objective);
-  EXPECT_LT(after.mean_percent * 3, before.mean_percent)
+  // The printed laminate cannot twist without bound as the first-order model (Eq. 7, linear in θ2)
+  // could: on this cap it stops near 4.9 % (was 3.5 % on the first-order model; docs/design.md).
+  EXPECT_LT(after.mean_percent * 2, before.mean_percent)
       << before.mean_percent << " -> " << after.mean_percent;
   EXPECT_GT(r.iterations, 0);
   std::cout << "cap: " << before.mean_percent << " -> " << after.mean_percent << " % in "
@@ -123,7 +129,8 @@ TEST(OptimizeTheta2, StopsWhenTheGaussNewtonModelPredictsLessThanTheTolerance) {
   const Theta2Problem problem = cap_problem(8);
   OptimizeTheta2Options options;
   options.relative_decrease = 0;
-  options.decrement_tolerance = 100;  // E starts at about 1300 on this cap
+  // E starts at about 1300 on this cap and stalls near 300 on the printed laminate.
+  options.decrement_tolerance = 300;
   std::vector<Theta2Iteration> reported;
   options.progress = [&](const Theta2Iteration& it) { reported.push_back(it); };
   const Theta2Result r = optimize_theta2(problem, {}, options);
