@@ -600,6 +600,15 @@ Theta2Result optimize_theta2(const Theta2Problem& problem, const Eigen::VectorXd
       break;
     }
   }
+  // Line-search trials stop at a looser tolerance; a soft plate (the saddle) can still creep by
+  // millimetres from there. The result is the equilibrium itself, so that the design's figures
+  // are those any simulation of the printed plate gives.
+  const NewtonResult final_solve = solver.forward(theta2, x);
+  if (forward_ok(final_solve)) {
+    x = final_solve.x;
+    terms = solver.objective_terms(x, theta2);
+    objective = terms.sum();
+  }
   out.theta2 = theta2;
   out.V = solver.from_frame(x);
   out.objective = objective;

@@ -12,6 +12,9 @@
 #include "mesh/mesh_fixtures.h"
 #include "mesh/subdivide.h"
 #include "mesh/validate.h"
+#include "plate/laminate.h"
+#include "simulate/distance.h"
+#include "simulate/simulate.h"
 #include "test_support.h"
 
 namespace flatmorph {
@@ -26,9 +29,30 @@ struct ExampleCase {
   bool normal_side_down;
 };
 
+// design.json's figures, simulated.ply and a prediction of the printed plate are one model: the
+// plate's stack rebuilt from what flat.ply holds (theta1 per face, theta2 per vertex) by the stack
+// builder, simulated from the design's shape, stays at that shape (within 0.01 % of the diagonal).
+void expect_prediction_agrees(const Design& d, const DesignOptions& options) {
+  PlateProblem p;
+  p.plate = d.flat.plate;
+  p.F = d.flat.target.F;
+  p.rest_forms = laminate(
+      shrink_morph_layer_stack(d.flat.theta1, vertex_to_face_average(p.F, d.theta2),
+                               options.material, options.layers, options.material.layer_height));
+  const SimulationResult r = simulate(p, d.optimized);
+  ASSERT_TRUE(r.converged) << to_string(r.status);
+  const double diagonal =
+      (d.flat.target.V.colwise().maxCoeff() - d.flat.target.V.colwise().minCoeff()).norm();
+  const double moved = (r.V - d.optimized).rowwise().norm().maxCoeff();
+  EXPECT_LT(moved, 1e-4 * diagonal) << "the prediction moved " << moved << " mm";
+  const ShapeDistance predicted = shape_distance(r.V, d.flat.target.V);
+  EXPECT_NEAR(predicted.mean_percent, d.metrics.dist_to_optim_avg_pct, 0.01);
+  EXPECT_NEAR(predicted.max_percent, d.metrics.dist_to_optim_max_pct, 0.01);
+}
+
 class DesignExample : public ::testing::TestWithParam<ExampleCase> {};
 
-TEST_P(DesignExample, OptimizingTheta2LowersTheDistanceThreeTimes) {
+TEST_P(DesignExample, OptimizingTheta2LowersTheDistance) {
   DesignOptions options;
   options.material = load_material("pla-paper");
   options.faces = 1;  // the example's own tessellation
@@ -38,11 +62,14 @@ TEST_P(DesignExample, OptimizingTheta2LowersTheDistanceThreeTimes) {
   EXPECT_EQ(d.flipped, GetParam().normal_side_down);
   EXPECT_EQ(m.faces, d.flat.target.num_faces());
   EXPECT_GT(m.optim_iterations, 0);
-  EXPECT_LT(3 * m.dist_to_optim_avg_pct, m.dist_to_sim_avg_pct)
+  // Judged on the printed laminate, solved to its equilibrium, the bump improves 1.9 times (2.38 %
+  // -> 1.26 %; the first-order model claimed 3.5 times); making it good again is issue 21's.
+  EXPECT_LT(1.5 * m.dist_to_optim_avg_pct, m.dist_to_sim_avg_pct)
       << m.dist_to_sim_avg_pct << " -> " << m.dist_to_optim_avg_pct;
   EXPECT_LT(m.dist_to_optim_max_pct, m.dist_to_sim_max_pct);
   EXPECT_NEAR(m.theta2_max_abs_rad, d.theta2.cwiseAbs().maxCoeff(), 0);
   EXPECT_EQ(d.optimized.rows(), d.flat.target.num_vertices());
+  expect_prediction_agrees(d, options);
 }
 
 // The README's command: the built-in saddle at the default 10000 faces, so with a first level one
@@ -60,6 +87,7 @@ TEST(DesignExampleAtTheDefaultResolution, TheSaddleLowersTheDistanceThreeTimes) 
   EXPECT_GE(d.side_agreement, 0.2);  // of the plate on the side printed on top
   EXPECT_LT(3 * m.dist_to_optim_avg_pct, m.dist_to_sim_avg_pct)
       << m.dist_to_sim_avg_pct << " -> " << m.dist_to_optim_avg_pct;
+  expect_prediction_agrees(d, options);
 }
 
 // The agreement of the printed side flips its sign with the side: the flattened plate of the
