@@ -37,6 +37,7 @@ ReadGcode read_gcode(const std::string& text, double cx, double cy) {
   double retracted = 0;
   std::map<int, double> nozzle;
   int tool = 0;
+  size_t extrusions = 0;  // in layers, so far
   std::string type;
   double width = 0, height = 0;
   // After ;LAYER_CHANGE, the next two lines must be ;Z: and ;HEIGHT:.
@@ -126,7 +127,8 @@ ReadGcode read_gcode(const std::string& text, double cx, double cy) {
       if (type.empty() || width <= 0) {
         r.annotation_errors.push_back("extrusion without ;TYPE: or ;WIDTH: in effect: " + raw);
       }
-      r.layers.back().extrusions.push_back({ox, oy, x, y, z, de, type, width, height});
+      r.layers.back().extrusions.push_back({ox, oy, x, y, z, de, type, width, height, tool});
+      ++extrusions;
     } else if (c == "G90") {
       relative_xyz = false;
     } else if (c == "G91") {
@@ -148,8 +150,10 @@ ReadGcode read_gcode(const std::string& text, double cx, double cy) {
       if (std::isnan(t)) t = word(words, 'R');
       const double which = word(words, 'T');
       if (!std::isnan(t)) {
-        nozzle[std::isnan(which) ? tool : static_cast<int>(which)] = t;
+        const int target_tool = std::isnan(which) ? tool : static_cast<int>(which);
+        nozzle[target_tool] = t;
         r.nozzle_targets.push_back(t);
+        r.tool_nozzle_targets[target_tool].push_back(t);
       }
     } else if (c == "M140" || c == "M190") {
       const double t = word(words, 'S');
@@ -163,11 +167,16 @@ ReadGcode read_gcode(const std::string& text, double cx, double cy) {
     } else if (c == "M84" || c == "M18") {
       r.motors_off_at_end = true;
     } else if (c[0] == 'T' && c.size() > 1 && std::isdigit(static_cast<unsigned char>(c[1]))) {
-      tool = std::atoi(c.c_str() + 1);
+      const int next = std::atoi(c.c_str() + 1);
+      if (next != tool) {
+        r.tool_changes.push_back({static_cast<int>(r.lines.size()), tool, next, extrusions});
+      }
+      tool = next;
     }
   }
   r.final_nozzle = -1;
   for (const auto& [k, v] : nozzle) r.final_nozzle = std::max(r.final_nozzle, v);
+  r.final_tool_nozzle = nozzle;
   r.relative_e = m83;
   return r;
 }
