@@ -269,11 +269,15 @@ class Emitter {
                                   fmt::format("printer {}: tool_change_gcode", printer_.name),
                                   tool_change_placeholders());
     if (!out_.empty() && out_.back() != '\n') out_ += '\n';
-    // The template's own E moves (a prime) say nothing about the print's E register.
-    e_exact_ -= static_cast<double>(e_units_) / kEUnits;
-    e_units_ = 0;
-    line("G92 E0");
     tool_ = tool;
+    // The template's own E moves (a prime) say nothing about the print's E register. It restarts
+    // at 0 with the filament of the next tool where that tool left it: E moves retract, so a tool
+    // parked retracted stands one retraction below its unretracted register.
+    line("G92 E0");
+    e_units_ = 0;
+    e_exact_ = retracted_[static_cast<size_t>(tool)] && !printer_.firmware_retraction
+                   ? static_cast<double>(std::llround(printer_.retract_length * kEUnits)) / kEUnits
+                   : 0.0;
     ++tool_changes_;
     known_ = false;
     feed_ = -1;  // the template may have set its own F
@@ -583,11 +587,13 @@ std::string per_tool(const std::vector<double>& values, double scale) {
   return s;
 }
 
-std::string speeds_of(const PrinterProfile& printer, const Material& material) {
+// `unit`: said before the source ("first layer 15 mm/s (from the material)"), or left out.
+std::string speeds_of(const PrinterProfile& printer, const Material& material,
+                      std::string_view unit) {
   return fmt::format(
-      "print {:g}, first layer {:g} (from the {})",
+      "print {:g}, first layer {:g}{} (from the {})",
       material.print_speed > 0 ? material.print_speed : printer.print_speed,
-      material.first_layer_speed > 0 ? material.first_layer_speed : printer.first_layer_speed,
+      material.first_layer_speed > 0 ? material.first_layer_speed : printer.first_layer_speed, unit,
       material.print_speed > 0 ? "material" : "printer");
 }
 
@@ -639,7 +645,7 @@ std::string header(const PrinterProfile& printer, const std::vector<Material>& t
                   printer.firmware_retraction ? " (firmware G10/G11)" : "", printer.z_hop,
                   printer.retract_min_travel));
   if (one) {
-    add(fmt::format("speeds = {}, travel {:g}, z {:g} mm/s", speeds_of(printer, material),
+    add(fmt::format("speeds = {}, travel {:g}, z {:g} mm/s", speeds_of(printer, material, ""),
                     printer.travel_speed, printer.z_speed));
   } else {
     add(fmt::format("speeds = travel {:g}, z {:g} mm/s; print speeds per tool below",
@@ -668,7 +674,7 @@ std::string header(const PrinterProfile& printer, const std::vector<Material>& t
                     m.nozzle_temperature, m.min_nozzle_temperature, m.max_nozzle_temperature));
     add(fmt::format("{}bed_temperature = {:g} C (at most {:g})", tool, m.bed_temperature,
                     m.max_bed_temperature));
-    if (!one) add(fmt::format("{}speeds = {} mm/s", tool, speeds_of(printer, m)));
+    if (!one) add(fmt::format("{}speeds = {}", tool, speeds_of(printer, m, " mm/s")));
     add(fmt::format("{}fan = {:g} % from the second layer, {:g} % on the first", tool, m.fan_speed,
                     m.first_layer_fan_speed));
     add(fmt::format("{}shrink = lambda1 {:g}, lambda2 {:g}, lambda3 {:g}, delta_lambda1 {:g}", tool,

@@ -34,10 +34,11 @@ ReadGcode read_gcode(const std::string& text, double cx, double cy) {
   std::string raw;
   double x = std::nan(""), y = std::nan(""), z = std::nan(""), e = 0;
   bool relative_xyz = false, m83 = false, declared = false, extruded = false;
-  double retracted = 0;
+  std::map<int, double> retracted;  // per tool: each has its own filament
   std::map<int, double> nozzle;
   int tool = 0;
   size_t extrusions = 0;  // in layers, so far
+  double feed = -1;
   std::string type;
   double width = 0, height = 0;
   // After ;LAYER_CHANGE, the next two lines must be ;Z: and ;HEIGHT:.
@@ -87,6 +88,7 @@ ReadGcode read_gcode(const std::string& text, double cx, double cy) {
     if (c == "G0" || c == "G1" || c == "G28") r.motors_off_at_end = false;
     if (c == "G0" || c == "G1") {
       const double nx = word(words, 'X'), ny = word(words, 'Y'), nz = word(words, 'Z');
+      if (!std::isnan(word(words, 'F'))) feed = word(words, 'F');
       const double ox = x, oy = y;
       if (!std::isnan(nx)) x = relative_xyz ? x + nx : nx;
       if (!std::isnan(ny)) y = relative_xyz ? y + ny : ny;
@@ -109,14 +111,14 @@ ReadGcode read_gcode(const std::string& text, double cx, double cy) {
       e = (m83 || relative_xyz) ? e + ev : ev;
       const bool moves = !std::isnan(nx) || !std::isnan(ny) || !std::isnan(nz);
       if (de < 0) {
-        retracted -= de;
+        retracted[tool] -= de;
         continue;
       }
       if (!moves) {
-        retracted = std::max(0.0, retracted - de);
+        retracted[tool] = std::max(0.0, retracted[tool] - de);
         continue;
       }
-      if (retracted > 1e-9) ++r.extrusions_while_retracted;
+      if (retracted[tool] > 1e-9) ++r.extrusions_while_retracted;
       if (de <= 0) continue;
       if (!extruded) r.mode_declared_before_extrusion = declared;
       extruded = true;
@@ -127,7 +129,9 @@ ReadGcode read_gcode(const std::string& text, double cx, double cy) {
       if (type.empty() || width <= 0) {
         r.annotation_errors.push_back("extrusion without ;TYPE: or ;WIDTH: in effect: " + raw);
       }
-      r.layers.back().extrusions.push_back({ox, oy, x, y, z, de, type, width, height, tool});
+      const auto target = nozzle.find(tool);
+      r.layers.back().extrusions.push_back({ox, oy, x, y, z, de, type, width, height, tool,
+                                            target == nozzle.end() ? -1 : target->second, feed});
       ++extrusions;
     } else if (c == "G90") {
       relative_xyz = false;
