@@ -92,7 +92,7 @@ int run_print(const PrintOptions& o, const GlobalOptions& global) {
     GcodeOptions gcode_options;
     gcode_options.sections = plan.plates[p].sections;
     results.push_back(make_gcode(plan.plates[p].toolpath, printer,
-                                 plate_material(plan, p, material), gcode_options));
+                                 {plate_material(plan, p, material)}, gcode_options));
     offsets.push_back(results.back().plate_to_bed);
     names.push_back(gcode_paths.back().filename().string());
   }

@@ -19,9 +19,39 @@ struct CheckOptions {
   std::string material = "pla-paper";
 };
 
+// "pla-paper,tpu-generic": one material per tool, T0 first.
+std::vector<Material> load_tool_materials(const std::string& list) {
+  std::vector<Material> materials;
+  size_t begin = 0;
+  while (true) {
+    const size_t comma = list.find(',', begin);
+    const std::string name = list.substr(begin, comma - begin);
+    if (name.empty()) {
+      throw UserError(ErrorCategory::kOption,
+                      fmt::format("--material \"{}\" has an empty name: give one material per "
+                                  "tool, comma-separated, e.g. pla-paper,tpu-generic",
+                                  list));
+    }
+    materials.push_back(load_material(name));
+    if (comma == std::string::npos) break;
+    begin = comma + 1;
+  }
+  return materials;
+}
+
 int run_check(const CheckOptions& options, const GlobalOptions& global) {
   const PrinterProfile printer = load_printer(options.printer);
-  const Material material = load_material(options.material);
+  const std::vector<Material> materials = load_tool_materials(options.material);
+  if (materials.size() > static_cast<size_t>(printer.extruder_count)) {
+    throw UserError(ErrorCategory::kOption,
+                    fmt::format("--material names {} materials but {} has {} tool(s): give one "
+                                "material per tool",
+                                materials.size(), printer.name, printer.extruder_count));
+  }
+  std::string material_names;
+  for (const Material& m : materials) {
+    material_names += (material_names.empty() ? "" : ",") + m.name;
+  }
   std::ifstream in(options.file, std::ios::binary);
   if (!in) {
     throw UserError(ErrorCategory::kFile,
@@ -29,20 +59,20 @@ int run_check(const CheckOptions& options, const GlobalOptions& global) {
   }
   std::stringstream text;
   text << in.rdbuf();
-  const std::vector<GcodeViolation> violations = check_gcode(text.str(), printer, material, 1000);
+  const std::vector<GcodeViolation> violations = check_gcode(text.str(), printer, materials, 1000);
   for (const GcodeViolation& v : violations) {
     fmt::print("{}:{}: {}: {}\n", options.file, v.line, to_string(v.kind), v.reason);
   }
   if (violations.empty()) {
     if (!global.quiet) {
-      fmt::print("{}: safe for {} with {}\n", options.file, printer.name, material.name);
+      fmt::print("{}: safe for {} with {}\n", options.file, printer.name, material_names);
     }
     return 0;
   }
   fmt::print(stderr,
              "flatmorph: error: {} is unsafe for {} with {}: {}{} violation(s), the first "
              "at line {} ({})\n",
-             options.file, printer.name, material.name, violations.size(),
+             options.file, printer.name, material_names, violations.size(),
              violations.size() >= 1000 ? "+" : "", violations.front().line,
              to_string(violations.front().kind));
   return 2;
@@ -62,7 +92,11 @@ Command make_check_command(CLI::App& app, const GlobalOptions& global) {
   sub->add_option("--printer", options->printer, "Printer preset name or profile JSON file")
       ->required();
   sub->add_option("--material", options->material,
-                  "Material preset name or material JSON file (default: pla-paper)");
+                  "Material preset name or material JSON file (default: pla-paper); on a printer "
+                  "with several tools, one per tool, comma-separated in tool order (T0,T1,...: "
+                  "pla-paper,tpu-generic). Each tool's temperatures and extrusion are checked "
+                  "against its own material, the bed against the lowest maximum; a tool the file "
+                  "heats or extrudes with but has no material is a violation");
   return {sub, [options, &global] { return run_check(*options, global); }};
 }
 

@@ -32,7 +32,7 @@ PrintPlan plan_print(const Eigen::MatrixXd& plate, const Eigen::MatrixXi& F,
   plan.paths = shrink_morph_layer_paths(plate, F, theta1, theta2, path_options);
   if (options.at_mm) plan.gcode_options.at = *options.at_mm;
   plan.gcode_options.skirt_loops = options.skirt_loops;
-  plan.gcode = make_gcode(plan.paths.toolpath, printer, material, plan.gcode_options);
+  plan.gcode = make_gcode(plan.paths.toolpath, printer, {material}, plan.gcode_options);
   for (const std::vector<int>& loop : boundary_loops(F)) {
     Eigen::MatrixX2d outline(loop.size(), 2);
     for (size_t i = 0; i < loop.size(); ++i) outline.row(i) = plate.row(loop[i]);
@@ -48,7 +48,7 @@ void write_print_files(const std::filesystem::path& dir, const PrintPlan& plan,
   preview.outline = plan.outline;
   write_layer_svgs(dir / "layers", plan.paths.toolpath, preview);
   write_overview_png(dir / "layers" / "overview.png", plan.paths.toolpath, preview);
-  write_gcode(dir / "plate.gcode", plan.paths.toolpath, printer, material, plan.gcode_options);
+  write_gcode(dir / "plate.gcode", plan.paths.toolpath, printer, {material}, plan.gcode_options);
 }
 
 nlohmann::ordered_json plan_summary_json(const PrintPlan& plan, const PrinterProfile& printer) {

@@ -51,7 +51,7 @@ void BM_WriteGcode3000m(benchmark::State& state) {
   size_t bytes = 0;
   double hours = 0;
   for (auto _ : state) {
-    const GcodeResult result = make_gcode(toolpath(), printer, material);
+    const GcodeResult result = make_gcode(toolpath(), printer, {material});
     bytes = result.text.size();
     hours = result.print_time / 3600;
     benchmark::DoNotOptimize(result.text.data());
@@ -65,9 +65,9 @@ BENCHMARK(BM_WriteGcode3000m)->Unit(benchmark::kMillisecond)->Iterations(2);
 void BM_CheckGcode3000m(benchmark::State& state) {
   const PrinterProfile printer = load_printer("creality-cr10s-pro");
   const Material material = load_material("pla-paper");
-  const std::string text = make_gcode(toolpath(), printer, material).text;
+  const std::string text = make_gcode(toolpath(), printer, {material}).text;
   for (auto _ : state) {
-    benchmark::DoNotOptimize(check_gcode(text, printer, material).size());
+    benchmark::DoNotOptimize(check_gcode(text, printer, {material}).size());
   }
   state.SetBytesProcessed(static_cast<int64_t>(state.iterations()) *
                           static_cast<int64_t>(text.size()));

@@ -10,6 +10,8 @@
 #include <map>
 #include <numbers>
 #include <optional>
+#include <set>
+#include <stdexcept>
 
 namespace flatmorph {
 namespace {
@@ -112,8 +114,14 @@ std::optional<std::string> parse_command(std::string_view line, Command& cmd) {
 
 class Checker {
  public:
-  Checker(const PrinterProfile& printer, const Material& material, size_t max_violations)
-      : printer_(printer), material_(material), max_(max_violations) {}
+  Checker(const PrinterProfile& printer, const std::vector<Material>& tool_materials,
+          size_t max_violations)
+      : printer_(printer), materials_(tool_materials), max_(max_violations) {
+    // The bed carries every material: the most it may reach is the least of their maxima.
+    for (const Material& m : materials_) {
+      if (!bed_limit_ || m.max_bed_temperature < bed_limit_->max_bed_temperature) bed_limit_ = &m;
+    }
+  }
 
   std::vector<GcodeViolation> run(std::string_view text) {
     int number = 0;
@@ -196,10 +204,10 @@ class Checker {
       if (!check_numbers(cmd, line, "SR")) return;
       if (const auto t = cmd.has('S') ? cmd.get('S') : cmd.get('R')) {
         bed_ = *t;
-        if (*t > material_.max_bed_temperature) {
+        if (bed_limit_ && *t > bed_limit_->max_bed_temperature) {
           flag(ViolationKind::kBedTemperature,
                fmt::format("bed set to {:g} C, above {:g} C, the most the material {} allows", *t,
-                           material_.max_bed_temperature, material_.name));
+                           bed_limit_->max_bed_temperature, bed_limit_->name));
         }
       }
     } else if (n == "TURN_OFF_HEATERS") {
@@ -215,8 +223,34 @@ class Checker {
       motors_off_ = false;
     } else if (n[0] == 'T' && is_classic(n)) {
       tool_ = tool_number(std::strtod(n.c_str() + 1, nullptr));
+      known_tool(tool_, "selects");
     }
   }
+
+  // Whether `tool` exists on the printer and has a material to judge it by; flags it (once per
+  // tool) when not. `what` is the verb of the command ("selects", "heats", "extrudes with").
+  bool known_tool(int tool, std::string_view what) {
+    if (tool >= printer_.extruder_count) {
+      if (reported_tools_.insert(tool).second) {
+        flag(ViolationKind::kUnknownTool,
+             fmt::format("{} T{} but {} has {} tool(s), T0 to T{}", what, tool, printer_.name,
+                         printer_.extruder_count, printer_.extruder_count - 1));
+      }
+      return false;
+    }
+    if (static_cast<size_t>(tool) >= materials_.size()) {
+      if (what != "selects" && reported_tools_.insert(tool).second) {
+        flag(ViolationKind::kToolWithoutMaterial,
+             fmt::format("{} T{} but no material was given for it ({} material(s), for T0 to "
+                         "T{}): give one material per tool",
+                         what, tool, materials_.size(), materials_.size() - 1));
+      }
+      return false;
+    }
+    return true;
+  }
+
+  const Material& material(int tool) const { return materials_[static_cast<size_t>(tool)]; }
 
   // Tool numbers as the firmware would take them; absurd ones are clamped rather than trusted.
   static int tool_number(double value) {
@@ -243,11 +277,18 @@ class Checker {
   }
 
   void set_nozzle(int tool, double target) {
+    if (tool >= printer_.extruder_count) {
+      known_tool(tool, "heats");
+      return;
+    }
     nozzle_[tool] = target;
-    if (target > material_.max_nozzle_temperature) {
+    // Turning a heater off needs no material.
+    if (target <= 0 || !known_tool(tool, "heats")) return;
+    const Material& m = material(tool);
+    if (target > m.max_nozzle_temperature) {
       flag(ViolationKind::kNozzleTemperature,
            fmt::format("nozzle (T{}) set to {:g} C, above {:g} C, the most the material {} allows",
-                       tool, target, material_.max_nozzle_temperature, material_.name));
+                       tool, target, m.max_nozzle_temperature, m.name));
     }
   }
 
@@ -308,8 +349,9 @@ class Checker {
              "extrusion before any M82 (absolute E) or M83 (relative E): the firmware's default "
              "mode may not be the one this file assumes");
       }
-      const double prime = std::min(de, retracted_);
-      retracted_ -= prime;
+      double& retracted = retracted_[tool_];
+      const double prime = std::min(de, retracted);
+      retracted -= prime;
       const double extruded = de - prime;
       if (prime > kEpsilon && xy_length && *xy_length > kRetractMoveTolerance) {
         flag(ViolationKind::kUnretractWhileMoving,
@@ -319,7 +361,7 @@ class Checker {
       }
       if (extruded > kEpsilon) check_extrusion(extruded, length);
     } else if (de < -kEpsilon) {
-      retracted_ += -de;
+      retracted_[tool_] += -de;
       if (xy_length && *xy_length > kRetractMoveTolerance) {
         flag(ViolationKind::kRetractWhileMoving,
              fmt::format("pulls back {:.3f} mm of filament while travelling {:.3f} mm (more than "
@@ -339,11 +381,13 @@ class Checker {
 
   void check_extrusion(double extruded, const std::optional<double>& length) {
     const auto target = nozzle_.find(tool_);
-    if (target != nozzle_.end() && target->second < material_.min_nozzle_temperature) {
+    if (known_tool(tool_, "extrudes with") && target != nozzle_.end() &&
+        target->second < material(tool_).min_nozzle_temperature) {
       flag(ViolationKind::kColdExtrusion,
            fmt::format("extrudes while the nozzle (T{}) is set to {:g} C, below {:g} C, the least "
                        "the material {} needs",
-                       tool_, target->second, material_.min_nozzle_temperature, material_.name));
+                       tool_, target->second, material(tool_).min_nozzle_temperature,
+                       material(tool_).name));
     }
     if (length && *length > kEpsilon) {
       const double area = extruded * std::numbers::pi * printer_.filament_diameter *
@@ -444,7 +488,8 @@ class Checker {
   }
 
   const PrinterProfile& printer_;
-  const Material& material_;
+  const std::vector<Material>& materials_;  // per tool
+  const Material* bed_limit_ = nullptr;     // the material with the lowest max_bed_temperature
   const size_t max_;
   std::vector<GcodeViolation> violations_;
   int line_ = 0;
@@ -455,10 +500,12 @@ class Checker {
   bool m83_ = false;
   bool declared_ = false;
   bool reported_no_mode_ = false;
-  double e_ = 0;          // the E register
-  double e_max_ = 0;      // its largest value since the last G92 or mode change (absolute mode)
-  double retracted_ = 0;  // filament pulled back and not yet pushed again (mm)
+  double e_ = 0;      // the E register
+  double e_max_ = 0;  // its largest value since the last G92 or mode change (absolute mode)
+  // Filament pulled back and not yet pushed again (mm), per tool: each has its own filament.
+  std::map<int, double> retracted_;
   int tool_ = 0;
+  std::set<int> reported_tools_;  // tools flagged as unknown or without a material
   std::map<int, double> nozzle_;  // targets set so far, per tool
   std::optional<double> bed_;
   bool moved_ = false;
@@ -499,13 +546,21 @@ std::string_view to_string(ViolationKind kind) {
       return "heaters-on-at-end";
     case ViolationKind::kMotorsOnAtEnd:
       return "motors-on-at-end";
+    case ViolationKind::kUnknownTool:
+      return "unknown-tool";
+    case ViolationKind::kToolWithoutMaterial:
+      return "tool-without-material";
   }
   return "unknown";
 }
 
 std::vector<GcodeViolation> check_gcode(std::string_view text, const PrinterProfile& printer,
-                                        const Material& material, size_t max_violations) {
-  return Checker(printer, material, max_violations).run(text);
+                                        const std::vector<Material>& tool_materials,
+                                        size_t max_violations) {
+  if (tool_materials.empty()) {
+    throw std::invalid_argument("check_gcode: no material (one per tool, T0 first)");
+  }
+  return Checker(printer, tool_materials, max_violations).run(text);
 }
 
 }  // namespace flatmorph

@@ -21,7 +21,7 @@ enum class ViolationKind {
   kAboveMaxHeight,        // a move above the printer's maximum height
   kNozzleTemperature,     // a nozzle target above the material's maximum
   kBedTemperature,        // a bed target above the material's maximum
-  kColdExtrusion,         // extrusion while the nozzle target is below the material's minimum
+  kColdExtrusion,         // extrusion while the tool's target is below its material's minimum
   kExtrusionOnTravel,     // a G0 move that extrudes
   kUnretractWhileMoving,  // filament pushed back while the head travels (ooze along the travel)
   kRetractWhileMoving,    // filament pulled back while the head travels
@@ -30,6 +30,8 @@ enum class ViolationKind {
   kNoExtrusionMode,       // extrusion before any M82/M83 declares the E mode
   kHeatersOnAtEnd,        // a heater still on at the end of the file
   kMotorsOnAtEnd,         // no M84/M18 after the last move
+  kUnknownTool,           // a tool selected, heated or used that the printer lacks
+  kToolWithoutMaterial,   // a tool heated or used that no material was given for
 };
 
 // "outside-bed", "cold-extrusion", ...: the names `flatmorph check` prints and the unsafe test
@@ -52,8 +54,11 @@ constexpr double kMaxBeadAreaInNozzleSquares = 10;
 // Absolute E may run back below its running maximum by the profile's retraction plus this.
 constexpr double kEBackwardsSlack = 1.0;
 
-// Every violation in `text`, in line order (at most `max_violations`).
+// Every violation in `text`, in line order (at most `max_violations`). `tool_materials[t]` is the
+// material of tool t (T0 first, at least one): the check follows T commands and judges each tool's
+// temperatures and extrusion by its own material; the shared bed by the least of their maxima.
 std::vector<GcodeViolation> check_gcode(std::string_view text, const PrinterProfile& printer,
-                                        const Material& material, size_t max_violations = 1000);
+                                        const std::vector<Material>& tool_materials,
+                                        size_t max_violations = 1000);
 
 }  // namespace flatmorph

@@ -56,8 +56,10 @@ double filament_area(const PrinterProfile& printer) {
   return std::numbers::pi * printer.filament_diameter * printer.filament_diameter / 4;
 }
 
-// Checks what the writer relies on; a toolpath violating it is a bug of the code that made it.
-void validate_toolpath(const Toolpath& toolpath, const PrinterProfile& printer) {
+// Checks what the writer relies on; a toolpath violating it is a bug of the code that made it,
+// except for tools: a tool the printer lacks or without a material is the user's choice.
+void validate_toolpath(const Toolpath& toolpath, const PrinterProfile& printer,
+                       const std::vector<Material>& tool_materials) {
   if (toolpath.layers.empty()) throw std::invalid_argument("make_gcode: the toolpath has no layer");
   for (size_t k = 0; k < toolpath.layers.size(); ++k) {
     const ToolpathLayer& layer = toolpath.layers[k];
@@ -90,6 +92,13 @@ void validate_toolpath(const Toolpath& toolpath, const PrinterProfile& printer) 
                           fmt::format("the toolpath uses tool T{} but the printer {} has {} "
                                       "extruder(s): choose a printer with more tools",
                                       s.tool, printer.name, printer.extruder_count));
+        }
+        if (static_cast<size_t>(s.tool) >= tool_materials.size()) {
+          throw UserError(ErrorCategory::kOption,
+                          fmt::format("the toolpath prints with tool T{} but only {} material(s) "
+                                      "were given ({} for T0): give one material per tool, "
+                                      "comma-separated in the order T0,T1,...",
+                                      s.tool, tool_materials.size(), tool_materials[0].name));
         }
       }
     }
@@ -163,15 +172,24 @@ std::string fan_command(GcodeFlavor flavor, double percent) {
 }
 
 // Emits the moves of the print and keeps the machine state: where the head is, what the E register
-// holds, the feed rate, whether the filament is retracted, and the annotations in effect.
+// holds, the feed rate, the active tool, whether each tool's filament is retracted, and the
+// annotations in effect.
 class Emitter {
  public:
-  Emitter(const PrinterProfile& printer, const Material& material, const Eigen::Vector2d& offset)
-      : printer_(printer), material_(material), offset_(offset) {}
+  Emitter(const PrinterProfile& printer, const std::vector<Material>& tool_materials,
+          const Eigen::Vector2d& offset)
+      : printer_(printer),
+        materials_(tool_materials),
+        offset_(offset),
+        extruded_(tool_materials.size(), 0.0),
+        retracted_(static_cast<size_t>(printer.extruder_count), false) {}
 
   std::string& out() { return out_; }
   std::vector<Motion>& motions() { return motions_; }
-  double extruded() const { return extruded_; }
+  // mm of filament per tool.
+  const std::vector<double>& extruded() const { return extruded_; }
+  int tool() const { return tool_; }
+  int tool_changes() const { return tool_changes_; }
 
   void line(std::string_view text) {
     out_ += text;
@@ -200,9 +218,9 @@ class Emitter {
 
   void path(const PathPolyline& path) {
     // Change tools before travelling, so the new tool is the one that arrives.
-    for (const SegmentStyle& s : path.segments) {
-      if (!s.travel) {
-        select_tool(s.tool);
+    for (size_t i = 0; i < path.segments.size(); ++i) {
+      if (!path.segments[i].travel) {
+        change_tool(path.segments[i].tool, point(path, i));
         break;
       }
     }
@@ -214,23 +232,64 @@ class Emitter {
         travel_to(to);
         continue;
       }
-      select_tool(s.tool);
+      if (s.tool != tool_) {
+        change_tool(s.tool, point(path, i));
+        travel_to(point(path, i));
+      }
       annotate(path.type, s);
       extrude_to(to,
                  (path.points.row(i + 1) - path.points.row(i)).norm() * s.width * s.layer_height /
                      filament_area(printer_),
-                 extrusion_speed(s));
+                 s.tool, extrusion_speed(s));
     }
   }
 
-  void select_tool(int tool) {
+  // Goes on with `tool`, which starts printing at `start` (bed coordinates): the previous tool
+  // retracts where it stands, then the profile's tool-change template parks it and brings the next
+  // one, whose fan setting then applies. The template may move the head anywhere, so its position
+  // counts as unknown until the next travel sets it (lifting first, as after the start G-code).
+  void change_tool(int tool, const Eigen::Vector3d& start) {
     if (tool == tool_) return;
-    if (printer_.extruder_count > 1) line(fmt::format("T{}", tool));
+    retract();
+    const Material& from = materials_[static_cast<size_t>(tool_)];
+    const Material& to = materials_[static_cast<size_t>(tool)];
+    const std::vector<std::pair<std::string, std::string>> values = {
+        {"previous_tool", std::to_string(tool_)},
+        {"next_tool", std::to_string(tool)},
+        {"previous_temperature", fmt::format("{:.0f}", from.nozzle_temperature)},
+        {"next_temperature", fmt::format("{:.0f}", to.nozzle_temperature)},
+        {"x", fixed(start.x(), 3)},
+        {"y", fixed(start.y(), 3)},
+        {"z", fixed(start.z(), 3)},
+        {"travel_feed_rate", std::to_string(std::lround(printer_.travel_speed * 60))},
+    };
+    out_ += fmt::format(
+        "; ---- tool change T{} -> T{} (tool_change_gcode of the printer profile)\n", tool_, tool);
+    out_ += expand_gcode_template(printer_.tool_change_gcode, values,
+                                  fmt::format("printer {}: tool_change_gcode", printer_.name),
+                                  tool_change_placeholders());
+    if (!out_.empty() && out_.back() != '\n') out_ += '\n';
     tool_ = tool;
+    // The template's own E moves (a prime) say nothing about the print's E register. It restarts
+    // at 0 with the filament of the next tool where that tool left it: E moves retract, so a tool
+    // parked retracted stands one retraction below its unretracted register.
+    line("G92 E0");
+    e_units_ = 0;
+    e_exact_ = retracted_[static_cast<size_t>(tool)] && !printer_.firmware_retraction
+                   ? static_cast<double>(std::llround(printer_.retract_length * kEUnits)) / kEUnits
+                   : 0.0;
+    ++tool_changes_;
+    known_ = false;
+    feed_ = -1;  // the template may have set its own F
+    // Said at every change: on tool changers each tool may have its own part-cooling fan.
+    line(fan_command(printer_.flavor, first_of_section_ ? to.first_layer_fan_speed : to.fan_speed));
   }
 
   void retract() {
-    if (retracted_ || (printer_.retract_length <= 0 && !printer_.firmware_retraction)) return;
+    if (retracted_[static_cast<size_t>(tool_)] ||
+        (printer_.retract_length <= 0 && !printer_.firmware_retraction)) {
+      return;
+    }
     if (printer_.firmware_retraction) {
       line("G10 ; retract (firmware)");
     } else {
@@ -238,7 +297,7 @@ class Emitter {
              " ; retract");
     }
     motions_.push_back({Eigen::Vector3d::Zero(), -printer_.retract_length, printer_.retract_speed});
-    retracted_ = true;
+    retracted_[static_cast<size_t>(tool_)] = true;
   }
 
   // Retracts and lifts the nozzle to `z` (mm) where it stands, if it is lower: before heating for
@@ -251,7 +310,7 @@ class Emitter {
   }
 
   void unretract() {
-    if (!retracted_) return;
+    if (!retracted_[static_cast<size_t>(tool_)]) return;
     if (printer_.firmware_retraction) {
       line("G11 ; unretract (firmware)");
     } else {
@@ -259,7 +318,7 @@ class Emitter {
              " ; unretract");
     }
     motions_.push_back({Eigen::Vector3d::Zero(), printer_.retract_length, printer_.retract_speed});
-    retracted_ = false;
+    retracted_[static_cast<size_t>(tool_)] = false;
   }
 
  private:
@@ -269,11 +328,11 @@ class Emitter {
 
   double extrusion_speed(const SegmentStyle& s) const {
     if (s.feed_rate > 0) return s.feed_rate;
+    const Material& m = materials_[static_cast<size_t>(s.tool)];
     if (first_of_section_) {
-      return material_.first_layer_speed > 0 ? material_.first_layer_speed
-                                             : printer_.first_layer_speed;
+      return m.first_layer_speed > 0 ? m.first_layer_speed : printer_.first_layer_speed;
     }
-    return material_.print_speed > 0 ? material_.print_speed : printer_.print_speed;
+    return m.print_speed > 0 ? m.print_speed : printer_.print_speed;
   }
 
   void annotate(PathType type, const SegmentStyle& s) {
@@ -359,10 +418,10 @@ class Emitter {
     known_ = true;
   }
 
-  void extrude_to(const Eigen::Vector3d& p, double filament, double speed) {
+  void extrude_to(const Eigen::Vector3d& p, double filament, int tool, double speed) {
     const Eigen::Vector3i target = to_units(p);
     e_exact_ += filament;
-    extruded_ += filament;
+    extruded_[static_cast<size_t>(tool)] += filament;
     const long long e_target = std::llround(e_exact_ * kEUnits);
     const long long delta = e_target - e_units_;
     out_ += "G1 X";
@@ -402,18 +461,20 @@ class Emitter {
   double feed_speed() const { return feed_ / 60.0; }
 
   const PrinterProfile& printer_;
-  const Material& material_;
+  const std::vector<Material>& materials_;  // per tool
   Eigen::Vector2d offset_;
   std::string out_;
   std::vector<Motion> motions_;
   Eigen::Vector3i pos_ = Eigen::Vector3i::Zero();  // mm / 1000
   bool known_ = false;
-  long long e_units_ = 0;  // the E register since the last G92, mm / 1e5
-  double e_exact_ = 0;     // filament since the last G92 without rounding, mm
-  double extruded_ = 0;    // all filament extruded, mm
-  long feed_ = -1;         // mm/min
-  bool retracted_ = false;
-  int tool_ = 0;
+  long long e_units_ = 0;         // the E register since the last G92, mm / 1e5
+  double e_exact_ = 0;            // filament since the last G92 without rounding, mm
+  std::vector<double> extruded_;  // all filament extruded per tool, mm
+  long feed_ = -1;                // mm/min
+  // Per tool: each has its own filament, which stays retracted while the tool is parked.
+  std::vector<bool> retracted_;
+  int tool_ = 0;  // the start G-code leaves the firmware on T0
+  int tool_changes_ = 0;
   bool first_of_section_ = true;
   bool first_travel_of_layer_ = true;
   std::optional<PathType> type_;
@@ -489,10 +550,16 @@ Placement place(const Toolpath& toolpath, const std::vector<PathPolyline>& skirt
 }
 
 // Sections must start at layer 0, in increasing order, within the toolpath, at temperatures the
-// material allows.
+// material allows. A section's own temperature is set with M109 on the active tool, so it needs a
+// print with one tool (`material` is that tool's).
 void validate_sections(const std::vector<PrintSection>& sections, const Toolpath& toolpath,
-                       const Material& material) {
+                       const Material& material, size_t tools_used) {
   for (size_t s = 0; s < sections.size(); ++s) {
+    if (sections[s].nozzle_temperature != 0 && tools_used > 1) {
+      throw UserError(ErrorCategory::kOption,
+                      "sections with their own nozzle temperature need a print with one tool; "
+                      "this one uses several: print the sections with one tool");
+    }
     const size_t first = sections[s].first_layer;
     if ((s == 0 && first != 0) || (s > 0 && first <= sections[s - 1].first_layer) ||
         first >= toolpath.layers.size()) {
@@ -513,23 +580,46 @@ void validate_sections(const std::vector<PrintSection>& sections, const Toolpath
   }
 }
 
-std::string header(const PrinterProfile& printer, const Material& material,
-                   const Toolpath& toolpath, const GcodeOptions& options,
-                   const GcodeResult& result) {
+// "1.00, 2.00": one value per tool, as the slicers list them per extruder.
+std::string per_tool(const std::vector<double>& values, double scale) {
+  std::string s;
+  for (double v : values) s += (s.empty() ? "" : ", ") + fmt::format("{:.2f}", v * scale);
+  return s;
+}
+
+// `unit`: said before the source ("first layer 15 mm/s (from the material)"), or left out.
+std::string speeds_of(const PrinterProfile& printer, const Material& material,
+                      std::string_view unit) {
+  return fmt::format(
+      "print {:g}, first layer {:g}{} (from the {})",
+      material.print_speed > 0 ? material.print_speed : printer.print_speed,
+      material.first_layer_speed > 0 ? material.first_layer_speed : printer.first_layer_speed, unit,
+      material.print_speed > 0 ? "material" : "printer");
+}
+
+std::string header(const PrinterProfile& printer, const std::vector<Material>& tool_materials,
+                   const Toolpath& toolpath, const GcodeOptions& options, const GcodeResult& result,
+                   int section_tool) {
   std::string h;
   auto add = [&h](const std::string& s) {
     h += "; ";
     h += s;
     h += '\n';
   };
+  const bool one = tool_materials.size() == 1;
+  const Material& material = tool_materials.front();
   add(fmt::format("generated by flatmorph {}", FLATMORPH_VERSION));
   add("the plate self-shapes in hot water: print it on a clean bed, then immerse it");
   h += ";\n";
   add(fmt::format("estimated printing time (normal mode) = {}",
                   format_duration(result.print_time)));
-  add(fmt::format("filament used [mm] = {:.2f}", result.filament_length));
-  add(fmt::format("filament used [cm3] = {:.2f}", result.filament_volume / 1000));
-  add(fmt::format("filament used [g] = {:.2f}", result.filament_mass));
+  std::vector<double> volumes;
+  for (double length : result.tool_filament_length) {
+    volumes.push_back(length * filament_area(printer));
+  }
+  add(fmt::format("filament used [mm] = {}", per_tool(result.tool_filament_length, 1)));
+  add(fmt::format("filament used [cm3] = {}", per_tool(volumes, 1e-3)));
+  add(fmt::format("filament used [g] = {}", per_tool(result.tool_filament_mass, 1)));
   add(fmt::format("total filament used [g] = {:.2f}", result.filament_mass));
   add("(time: moves with acceleration and cornering limits; heating, homing, levelling and the "
       "start G-code not included)");
@@ -554,30 +644,43 @@ std::string header(const PrinterProfile& printer, const Material& material,
                   printer.retract_length, printer.retract_speed,
                   printer.firmware_retraction ? " (firmware G10/G11)" : "", printer.z_hop,
                   printer.retract_min_travel));
-  add(fmt::format(
-      "speeds = print {:g}, first layer {:g} (from the {}), travel {:g}, z {:g} mm/s",
-      material.print_speed > 0 ? material.print_speed : printer.print_speed,
-      material.first_layer_speed > 0 ? material.first_layer_speed : printer.first_layer_speed,
-      material.print_speed > 0 ? "material" : "printer", printer.travel_speed, printer.z_speed));
+  if (one) {
+    add(fmt::format("speeds = {}, travel {:g}, z {:g} mm/s", speeds_of(printer, material, ""),
+                    printer.travel_speed, printer.z_speed));
+  } else {
+    add(fmt::format("speeds = travel {:g}, z {:g} mm/s; print speeds per tool below",
+                    printer.travel_speed, printer.z_speed));
+  }
   add(fmt::format("acceleration = print {:g}, travel {:g} mm/s^2; cornering {}",
                   printer.print_acceleration, printer.travel_acceleration,
                   printer.cornering == CorneringModel::kJerk
                       ? fmt::format("jerk {:g} mm/s", printer.jerk)
                       : fmt::format("junction deviation {:g} mm", printer.junction_deviation)));
-  h += ";\n";
-  add(fmt::format("material = {}", material.name));
-  if (!material.description.empty())
-    add(fmt::format("material_description = {}", material.description));
-  add(fmt::format("nozzle_temperature = {:g} C (safe range {:g}..{:g})",
-                  material.nozzle_temperature, material.min_nozzle_temperature,
-                  material.max_nozzle_temperature));
-  add(fmt::format("bed_temperature = {:g} C (at most {:g})", material.bed_temperature,
-                  material.max_bed_temperature));
-  add(fmt::format("fan = {:g} % from the second layer, {:g} % on the first", material.fan_speed,
-                  material.first_layer_fan_speed));
-  add(fmt::format("shrink = lambda1 {:g}, lambda2 {:g}, lambda3 {:g}, delta_lambda1 {:g}",
-                  material.lambda1, material.lambda2, material.lambda3, material.delta_lambda1));
-  add(fmt::format("density = {:g} g/cm3", material.density));
+  if (!one) {
+    add(
+        fmt::format("tool_changes = {} (tool_change_gcode of the printer profile; all tools used "
+                    "stay at their temperature until the end)",
+                    result.tool_changes));
+  }
+  for (size_t t = 0; t < tool_materials.size(); ++t) {
+    // One material: the keys as they always were; several: each key says its tool ("T1 material").
+    const std::string tool = one ? "" : fmt::format("T{} ", t);
+    const Material& m = tool_materials[t];
+    h += ";\n";
+    add(fmt::format("{}material = {}", tool, m.name));
+    if (!m.description.empty())
+      add(fmt::format("{}material_description = {}", tool, m.description));
+    add(fmt::format("{}nozzle_temperature = {:g} C (safe range {:g}..{:g})", tool,
+                    m.nozzle_temperature, m.min_nozzle_temperature, m.max_nozzle_temperature));
+    add(fmt::format("{}bed_temperature = {:g} C (at most {:g})", tool, m.bed_temperature,
+                    m.max_bed_temperature));
+    if (!one) add(fmt::format("{}speeds = {}", tool, speeds_of(printer, m, " mm/s")));
+    add(fmt::format("{}fan = {:g} % from the second layer, {:g} % on the first", tool, m.fan_speed,
+                    m.first_layer_fan_speed));
+    add(fmt::format("{}shrink = lambda1 {:g}, lambda2 {:g}, lambda3 {:g}, delta_lambda1 {:g}", tool,
+                    m.lambda1, m.lambda2, m.lambda3, m.delta_lambda1));
+    add(fmt::format("{}density = {:g} g/cm3", tool, m.density));
+  }
   h += ";\n";
   const Eigen::Vector2d& t = result.plate_to_bed;
   add(
@@ -602,8 +705,9 @@ std::string header(const PrinterProfile& printer, const Material& material,
     const PrintSection& section = options.sections[s];
     const size_t last = s + 1 < options.sections.size() ? options.sections[s + 1].first_layer
                                                         : toolpath.layers.size();
-    const double t =
-        section.nozzle_temperature > 0 ? section.nozzle_temperature : material.nozzle_temperature;
+    const double t = section.nozzle_temperature > 0
+                         ? section.nozzle_temperature
+                         : tool_materials[static_cast<size_t>(section_tool)].nozzle_temperature;
     add(fmt::format("section {} = layers {}-{} printed from the bed up at {:g} C{}{}", s + 1,
                     section.first_layer + 1, last, t, section.label.empty() ? "" : ": ",
                     section.label));
@@ -670,8 +774,28 @@ std::vector<PathPolyline> skirt_loops(const Toolpath& toolpath, int loops, doubl
 }
 
 GcodeResult make_gcode(const Toolpath& toolpath, const PrinterProfile& printer,
-                       const Material& material, const GcodeOptions& options) {
-  validate_toolpath(toolpath, printer);
+                       const std::vector<Material>& tool_materials, const GcodeOptions& options) {
+  if (tool_materials.empty()) {
+    throw UserError(ErrorCategory::kOption, "no material given: give one material per tool");
+  }
+  if (tool_materials.size() > static_cast<size_t>(printer.extruder_count)) {
+    throw UserError(ErrorCategory::kOption,
+                    fmt::format("{} materials given but the printer {} has {} tool(s): give one "
+                                "material per tool, or choose a printer with more tools",
+                                tool_materials.size(), printer.name, printer.extruder_count));
+  }
+  validate_toolpath(toolpath, printer, tool_materials);
+  // The bed is shared: the start G-code heats it for T0's material, which every other must bear.
+  const Material& bed_material = tool_materials.front();
+  for (const Material& m : tool_materials) {
+    if (bed_material.bed_temperature > m.max_bed_temperature) {
+      throw UserError(ErrorCategory::kOption,
+                      fmt::format("the bed temperature {:g} C of {} (T0) is above {:g} C, the most "
+                                  "{} allows: put the material with the cooler bed on T0",
+                                  bed_material.bed_temperature, bed_material.name,
+                                  m.max_bed_temperature, m.name));
+    }
+  }
   if (options.skirt_loops < 0 || !(options.skirt_distance >= 0)) {
     throw UserError(ErrorCategory::kOption,
                     fmt::format("skirt: {} loops at {} mm; expected 0 or more loops at a distance "
@@ -679,7 +803,21 @@ GcodeResult make_gcode(const Toolpath& toolpath, const PrinterProfile& printer,
                                 options.skirt_loops, options.skirt_distance));
   }
 
-  validate_sections(options.sections, toolpath, material);
+  // Which tools the print uses, in the order they first print.
+  std::set<int> tools;
+  int first_tool = -1;
+  for (const ToolpathLayer& layer : toolpath.layers) {
+    for (const PathPolyline& path : layer.paths) {
+      for (const SegmentStyle& s : path.segments) {
+        if (s.travel) continue;
+        tools.insert(s.tool);
+        if (first_tool < 0) first_tool = s.tool;
+      }
+    }
+  }
+  if (first_tool < 0) first_tool = 0;
+  validate_sections(options.sections, toolpath, tool_materials[static_cast<size_t>(first_tool)],
+                    tools.size());
 
   // The skirt is as wide and as high as the first extruded segment of the first layer.
   double skirt_width = printer.nozzle_diameter;
@@ -693,8 +831,12 @@ GcodeResult make_gcode(const Toolpath& toolpath, const PrinterProfile& printer,
       break;
     }
   }
-  const std::vector<PathPolyline> skirt =
+  std::vector<PathPolyline> skirt =
       skirt_loops(toolpath, options.skirt_loops, options.skirt_distance, skirt_width, skirt_height);
+  // The skirt primes the tool that prints first.
+  for (PathPolyline& loop : skirt) {
+    for (SegmentStyle& s : loop.segments) s.tool = first_tool;
+  }
   const Placement placement = place(toolpath, skirt, printer, options);
 
   double top = 0;
@@ -716,34 +858,41 @@ GcodeResult make_gcode(const Toolpath& toolpath, const PrinterProfile& printer,
   result.print_min = placement.min;
   result.print_max = placement.max;
 
-  // Which tools the print uses, to heat and cool the others than T0.
-  std::set<int> tools;
-  for (const ToolpathLayer& layer : toolpath.layers) {
-    for (const PathPolyline& path : layer.paths) {
-      for (const SegmentStyle& s : path.segments) tools.insert(s.tool);
-    }
-  }
-
-  Emitter emit(printer, material, placement.offset);
+  Emitter emit(printer, tool_materials, placement.offset);
+  auto material_of = [&](int tool) -> const Material& {
+    return tool_materials[static_cast<size_t>(tool)];
+  };
   // Prologue: the E mode, said explicitly whatever the start G-code did.
   emit.line("; ---- flatmorph: print begins");
   emit.line("G90 ; absolute X, Y, Z");
   emit.line(printer.relative_e ? "M83 ; relative E" : "M82 ; absolute E");
   emit.line("G92 E0");
+  // The start G-code heated T0 (the firmware's tool after it) to T0's material. Every other tool
+  // the print uses is heated now, all at once, and stays at its temperature until the end: tools
+  // alternate often in a plate, and cooling each between its turns would cost a reheat every time.
   for (int tool : tools) {
     if (tool > 0) {
-      emit.line(
-          fmt::format("M109 T{} S{:.0f} ; heat tool {}", tool, material.nozzle_temperature, tool));
+      emit.line(fmt::format("M104 T{} S{:.0f} ; heat tool {} ({})", tool,
+                            material_of(tool).nozzle_temperature, tool, material_of(tool).name));
     }
   }
-  emit.line(fan_command(printer.flavor, material.first_layer_fan_speed));
+  for (int tool : tools) {
+    if (tool > 0) {
+      emit.line(fmt::format("M109 T{} S{:.0f} ; wait for tool {}", tool,
+                            material_of(tool).nozzle_temperature, tool));
+    }
+  }
+  if (printer.extruder_count > 1 && !tools.count(0)) {
+    emit.line("M104 T0 S0 ; the print does not use tool 0");
+  }
+  emit.line(fan_command(printer.flavor, material_of(emit.tool()).first_layer_fan_speed));
   const std::string prologue = std::move(emit.out());
   emit.out().clear();
 
   std::vector<std::string> layer_texts;
   size_t section = 0;              // index into options.sections (when there are any)
   size_t section_first_layer = 0;  // index of the current section's first layer
-  double nozzle_target = material.nozzle_temperature;
+  double nozzle_target = material_of(first_tool).nozzle_temperature;
   double printed_top = 0;  // highest z printed so far (mm)
   for (size_t k = 0; k < toolpath.layers.size(); ++k) {
     const ToolpathLayer& layer = toolpath.layers[k];
@@ -760,18 +909,22 @@ GcodeResult make_gcode(const Toolpath& toolpath, const PrinterProfile& printer,
       emit.line(fmt::format("; ---- section {} of {}{}{}", section + 1, options.sections.size(),
                             starts->label.empty() ? "" : ": ", starts->label));
       if (k > 0) emit.lift_to(printed_top + std::max(printer.z_hop, kFirstTravelLift));
-      const double target =
-          starts->nozzle_temperature > 0 ? starts->nozzle_temperature : material.nozzle_temperature;
+      const double target = starts->nozzle_temperature > 0
+                                ? starts->nozzle_temperature
+                                : material_of(first_tool).nozzle_temperature;
       if (target != nozzle_target) {
         emit.line(fmt::format("M109 S{:.0f} ; nozzle temperature of this section, wait", target));
         nozzle_target = target;
       }
-      if (k > 0 && material.fan_speed != material.first_layer_fan_speed) {
-        emit.line(fan_command(printer.flavor, material.first_layer_fan_speed));
+      const Material& m = material_of(emit.tool());
+      if (k > 0 && m.fan_speed != m.first_layer_fan_speed) {
+        emit.line(fan_command(printer.flavor, m.first_layer_fan_speed));
       }
     }
-    if (k == section_first_layer + 1 && material.fan_speed != material.first_layer_fan_speed) {
-      emit.line(fan_command(printer.flavor, material.fan_speed));
+    // The fan of the tool in use; a tool change within the layer sets the next tool's.
+    const Material& m = material_of(emit.tool());
+    if (k == section_first_layer + 1 && m.fan_speed != m.first_layer_fan_speed) {
+      emit.line(fan_command(printer.flavor, m.fan_speed));
     }
     if (k == 0) {
       for (const PathPolyline& loop : skirt) emit.path(loop);
@@ -783,8 +936,10 @@ GcodeResult make_gcode(const Toolpath& toolpath, const PrinterProfile& printer,
     if (k + 1 == toolpath.layers.size()) {
       emit.retract();
       emit.line("M107 ; fan off");
-      for (int tool : tools) {
-        if (tool > 0) emit.line(fmt::format("M104 T{} S0 ; tool {} heater off", tool, tool));
+      // The end G-code's M104 S0 reaches the active tool only.
+      if (printer.extruder_count > 1) {
+        for (int tool : tools)
+          emit.line(fmt::format("M104 T{} S0 ; tool {} heater off", tool, tool));
       }
     }
     // Layers are estimated one by one, each from rest to rest: they are joined by a retraction or
@@ -795,14 +950,25 @@ GcodeResult make_gcode(const Toolpath& toolpath, const PrinterProfile& printer,
     emit.out().clear();
   }
   for (double t : result.layer_times) result.print_time += t;
-  result.filament_length = emit.extruded();
+  result.tool_filament_length = emit.extruded();
+  for (size_t t = 0; t < tool_materials.size(); ++t) {
+    const double length = result.tool_filament_length[t];
+    result.tool_filament_mass.push_back(length * filament_area(printer) / 1000 *
+                                        tool_materials[t].density);
+    result.filament_length += length;
+    result.filament_mass += result.tool_filament_mass.back();
+  }
   result.filament_volume = result.filament_length * filament_area(printer);
-  result.filament_mass = result.filament_volume / 1000 * material.density;
+  result.tool_changes = emit.tool_changes();
 
   const double max_z = toolpath.layers.back().z;
+  std::string material_names;
+  for (const Material& m : tool_materials) {
+    material_names += (material_names.empty() ? "" : ",") + m.name;
+  }
   const std::vector<std::pair<std::string, std::string>> values = {
-      {"nozzle_temperature", fmt::format("{:.0f}", material.nozzle_temperature)},
-      {"bed_temperature", fmt::format("{:.0f}", material.bed_temperature)},
+      {"nozzle_temperature", fmt::format("{:.0f}", tool_materials.front().nozzle_temperature)},
+      {"bed_temperature", fmt::format("{:.0f}", bed_material.bed_temperature)},
       {"first_layer_height", fixed(toolpath.layers.front().height, 3)},
       {"nozzle_diameter", fmt::format("{:g}", printer.nozzle_diameter)},
       {"filament_diameter", fmt::format("{:g}", printer.filament_diameter)},
@@ -822,14 +988,14 @@ GcodeResult make_gcode(const Toolpath& toolpath, const PrinterProfile& printer,
       {"layer_count", std::to_string(toolpath.layers.size())},
       {"travel_feed_rate", std::to_string(std::lround(printer.travel_speed * 60))},
       {"printer_name", printer.name},
-      {"material_name", material.name},
+      {"material_name", material_names},
   };
   const std::string source = fmt::format("printer {}", printer.name);
   const std::string start = expand_gcode_template(printer.start_gcode, values, source);
   const std::string end = expand_gcode_template(printer.end_gcode, values, source);
 
   std::string& text = result.text;
-  text = header(printer, material, toolpath, options, result);
+  text = header(printer, tool_materials, toolpath, options, result, first_tool);
   text += "; ---- start G-code of the printer profile\n";
   const size_t start_begin = text.size();
   text += start;
@@ -857,7 +1023,7 @@ GcodeResult make_gcode(const Toolpath& toolpath, const PrinterProfile& printer,
   const size_t end_end = text.size();
   text += "; ---- end of file\n";
 
-  const std::vector<GcodeViolation> violations = check_gcode(text, printer, material, 1);
+  const std::vector<GcodeViolation> violations = check_gcode(text, printer, tool_materials, 1);
   if (!violations.empty()) {
     const GcodeViolation& v = violations.front();
     const int start_first = lines_before(text, start_begin) + 1;
@@ -887,9 +1053,9 @@ GcodeResult make_gcode(const Toolpath& toolpath, const PrinterProfile& printer,
 }
 
 GcodeResult write_gcode(const std::filesystem::path& path, const Toolpath& toolpath,
-                        const PrinterProfile& printer, const Material& material,
+                        const PrinterProfile& printer, const std::vector<Material>& tool_materials,
                         const GcodeOptions& options) {
-  GcodeResult result = make_gcode(toolpath, printer, material, options);
+  GcodeResult result = make_gcode(toolpath, printer, tool_materials, options);
   write_file_atomically(path, true, [&](std::ostream& out) { out << result.text; });
   return result;
 }

@@ -1,8 +1,8 @@
-// Toolpath + printer + material -> G-code a real printer accepts. The writer never decides
-// geometry: it places the plate on the bed, turns segment lengths into filament, travels with
-// retraction and z-hop, annotates layers the way PrusaSlicer's viewer reads them, estimates time
-// and filament, and refuses a plate that does not fit. Plate coordinates (as in flat.ply and the
-// Toolpath) map to bed coordinates by a translation in x and y: bed = plate + plate_to_bed, z
+// Toolpath + printer + one material per tool -> G-code a real printer accepts. The writer never
+// decides geometry: it places the plate on the bed, turns segment lengths into filament, travels
+// with retraction and z-hop, annotates layers the way PrusaSlicer's viewer reads them, estimates
+// time and filament, and refuses a plate that does not fit. Plate coordinates (as in flat.ply and
+// the Toolpath) map to bed coordinates by a translation in x and y: bed = plate + plate_to_bed, z
 // unchanged. Lengths in mm, speeds in mm/s, temperatures in degrees C. docs/gcode.md describes the
 // output line by line.
 #pragma once
@@ -30,7 +30,7 @@ namespace flatmorph {
 // disjoint convex regions): the writer only lifts at section changes.
 struct PrintSection {
   size_t first_layer = 0;         // index into Toolpath::layers; the first section starts at 0
-  double nozzle_temperature = 0;  // degrees C; 0: the material's
+  double nozzle_temperature = 0;  // degrees C; 0: the material's; > 0 needs a one-tool print
   std::string label;              // written as a comment where the section begins
 };
 
@@ -52,20 +52,30 @@ struct GcodeResult {
   Eigen::Vector2d print_max{0, 0};     // skirt included
   double print_time = 0;               // s, moves of the print (start G-code excluded)
   std::vector<double> layer_times;     // s per layer
-  double filament_length = 0;          // mm of filament extruded
-  double filament_volume = 0;          // mm^3
-  double filament_mass = 0;            // g
+  double filament_length = 0;          // mm of filament extruded, all tools
+  double filament_volume = 0;          // mm^3, all tools
+  double filament_mass = 0;            // g, all tools
+  // Per tool (index = tool, as many as materials were given): mm of filament and g.
+  std::vector<double> tool_filament_length;
+  std::vector<double> tool_filament_mass;
+  int tool_changes = 0;  // times the tool-change template runs
 };
 
-// The G-code of `toolpath` for `printer` and `material`. The result has passed check_gcode (a
-// violation is a bug of the writer or the profile: std::logic_error). Throws UserError(kInfeasible)
-// when the plate does not fit the bed or the printer's height, or needs a tool the printer lacks.
+// The G-code of `toolpath` for `printer`, printing each tool's segments (SegmentStyle::tool) with
+// `tool_materials[tool]`: its temperature, speeds, fan and density. Wherever the print goes on
+// with another tool, the profile's tool_change_gcode runs. One material: `{material}`. The result
+// has passed check_gcode (a violation is a bug of the writer or the profile: std::logic_error).
+// Throws UserError: kInfeasible when the plate does not fit the bed or the printer's height, or
+// needs a tool the printer lacks; kOption when a tool the toolpath uses has no material, when
+// there are more materials than the printer has tools, or when T0's bed temperature is too hot
+// for another material.
 GcodeResult make_gcode(const Toolpath& toolpath, const PrinterProfile& printer,
-                       const Material& material, const GcodeOptions& options = {});
+                       const std::vector<Material>& tool_materials,
+                       const GcodeOptions& options = {});
 
 // make_gcode, then writes the text to `path` atomically.
 GcodeResult write_gcode(const std::filesystem::path& path, const Toolpath& toolpath,
-                        const PrinterProfile& printer, const Material& material,
+                        const PrinterProfile& printer, const std::vector<Material>& tool_materials,
                         const GcodeOptions& options = {});
 
 // The PrusaSlicer ;TYPE: name of a path type ("Solid infill", "Skirt/Brim", ...).

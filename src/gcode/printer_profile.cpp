@@ -313,11 +313,33 @@ PrinterProfile parse_printer_json(const json& root, const std::string& source) {
 
   p.start_gcode = r.lines("start_gcode", "heat, home, level, purge; an array of lines");
   p.end_gcode = r.lines("end_gcode", "lift, park, heaters and motors off; an array of lines");
+  if (r.has("tool_change_gcode")) {
+    if (p.extruder_count < 2) {
+      fail(source,
+           "tool_change_gcode applies to printers with more than one tool; set \"extruders\" "
+           "or remove it");
+    }
+    p.tool_change_gcode = r.lines("tool_change_gcode",
+                                  "park, select with T{next_tool}, heat, prime; an array of lines");
+  } else if (p.extruder_count > 1) {
+    fail(source, fmt::format("a printer with {} extruders needs \"tool_change_gcode\" (at least "
+                             "[\"T{{next_tool}}\"]); see docs/gcode.md",
+                             p.extruder_count));
+  }
   r.reject_unknown();
 
   // Templates are checked now, not when a first print is written.
   expand_gcode_template(p.start_gcode, {}, source + ": start_gcode");
   expand_gcode_template(p.end_gcode, {}, source + ": end_gcode");
+  expand_gcode_template(p.tool_change_gcode, {}, source + ": tool_change_gcode",
+                        tool_change_placeholders());
+  // The writer and the check follow the active tool through T commands: the template must say
+  // which tool comes next, and only that one.
+  if (p.extruder_count > 1 && !template_has(p.tool_change_gcode, {"T{NEXT_TOOL}"}, 0)) {
+    fail(source,
+         "tool_change_gcode never selects the next tool: add a line \"T{next_tool}\" (with the "
+         "firmware's parameters, if any)");
+  }
   for (const char* needed : {"{nozzle_temperature}", "{bed_temperature}"}) {
     if (p.start_gcode.find(needed) == std::string::npos) {
       fail(source, fmt::format("start_gcode never uses {}, so the material's temperature would be "
@@ -452,9 +474,24 @@ const std::vector<GcodePlaceholder>& gcode_placeholders() {
   return kPlaceholders;
 }
 
+const std::vector<GcodePlaceholder>& tool_change_placeholders() {
+  static const std::vector<GcodePlaceholder> kPlaceholders = {
+      {"previous_tool", "the tool in use until the change (0, 1, ...)"},
+      {"next_tool", "the tool that prints next"},
+      {"previous_temperature", "the previous tool's material nozzle temperature, degrees C"},
+      {"next_temperature", "the next tool's material nozzle temperature, degrees C"},
+      {"x", "where the next tool starts printing, bed coordinates, mm"},
+      {"y", "where the next tool starts printing, bed coordinates, mm"},
+      {"z", "height of the layer the next tool prints, mm"},
+      {"travel_feed_rate", "travel speed, mm/min (for F)"},
+  };
+  return kPlaceholders;
+}
+
 std::string expand_gcode_template(std::string_view text,
                                   const std::vector<std::pair<std::string, std::string>>& values,
-                                  const std::string& source) {
+                                  const std::string& source,
+                                  const std::vector<GcodePlaceholder>& known) {
   std::string out;
   out.reserve(text.size() + 64);
   int line = 1;
@@ -480,7 +517,6 @@ std::string expand_gcode_template(std::string_view text,
       fail(source, fmt::format("line {}: unclosed '{{'; write {{{{ for a literal brace", line));
     }
     const std::string_view name = text.substr(i + 1, close - i - 1);
-    const auto& known = gcode_placeholders();
     if (std::none_of(known.begin(), known.end(),
                      [&](const GcodePlaceholder& p) { return p.name == name; })) {
       std::vector<std::string_view> names;

@@ -40,6 +40,8 @@ struct PrinterProfile {
 
   double nozzle_diameter = 0.4;     // mm
   double filament_diameter = 1.75;  // mm
+  // Independent nozzles, each with its own heater and filament (IDEX, tool changers), selected
+  // with T0, T1, ...; a single nozzle fed by a filament changer (AMS, MMU) is one extruder here.
   int extruder_count = 1;
   bool relative_e = false;  // M83 (relative) rather than M82 (absolute) extrusion distances
 
@@ -64,6 +66,10 @@ struct PrinterProfile {
   // Templates with {placeholders} (gcode_placeholders()); lines separated by '\n'.
   std::string start_gcode;
   std::string end_gcode;
+  // Run wherever the print goes on with another tool (tool_change_placeholders()): parks the
+  // previous tool, selects the next (a line "T{next_tool} ..."), waits for its temperature, primes
+  // or wipes. Required when extruder_count > 1, refused otherwise.
+  std::string tool_change_gcode;
 };
 
 // Presets in a fixed order (alphabetical).
@@ -89,18 +95,22 @@ Eigen::Vector2d bed_center(const PrinterProfile& printer);
 // Whether the point (bed coordinates, mm) lies on the printable bed, within `tolerance` mm.
 bool on_bed(const PrinterProfile& printer, const Eigen::Vector2d& p, double tolerance);
 
-// A placeholder the start and end templates may use, with its meaning.
+// A placeholder a template may use, with its meaning.
 struct GcodePlaceholder {
   std::string_view name;
   std::string_view meaning;
 };
+// Those of the start and end templates.
 const std::vector<GcodePlaceholder>& gcode_placeholders();
+// Those of the tool-change template (tool numbers, the next tool's temperature and where it
+// starts).
+const std::vector<GcodePlaceholder>& tool_change_placeholders();
 
 // Replaces every {name} in `text` by values[name] ("{{" and "}}" stand for braces). Throws
-// UserError(kProfile) naming `source` and the line for an unknown or unclosed placeholder; with an
-// empty `values`, only checks the template.
-std::string expand_gcode_template(std::string_view text,
-                                  const std::vector<std::pair<std::string, std::string>>& values,
-                                  const std::string& source);
+// UserError(kProfile) naming `source` and the line for a placeholder not in `known` or unclosed;
+// with an empty `values`, only checks the template.
+std::string expand_gcode_template(
+    std::string_view text, const std::vector<std::pair<std::string, std::string>>& values,
+    const std::string& source, const std::vector<GcodePlaceholder>& known = gcode_placeholders());
 
 }  // namespace flatmorph

@@ -103,7 +103,7 @@ void expect_sound_plate(const CalibrationPlan& plan, size_t p, const PrinterProf
   GcodeOptions options;
   options.sections = plate.sections;
   const Material m = plate_material(plan, p, material);
-  const GcodeResult result = make_gcode(plate.toolpath, printer, m, options);
+  const GcodeResult result = make_gcode(plate.toolpath, printer, {m}, options);
   const Eigen::Vector2d center = bed_center(printer);
   const ReadGcode read = read_gcode(result.text, center.x(), center.y());
 
@@ -167,7 +167,7 @@ void expect_sound_plate(const CalibrationPlan& plan, size_t p, const PrinterProf
   EXPECT_TRUE(hits.empty()) << hits.size()
                             << " moves through earlier sets, first: " << hits.front();
 
-  EXPECT_TRUE(check_gcode(result.text, printer, m).empty());
+  EXPECT_TRUE(check_gcode(result.text, printer, {m}).empty());
 }
 
 TEST(CalibrationPrint, PaperSamplesOnTheCr10) {

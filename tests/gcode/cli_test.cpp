@@ -76,7 +76,7 @@ TEST(CliCheck, FlagsAnUnsafeFile) {
 TEST(CliCheck, PassesWhatFlatmorphWrites) {
   const std::filesystem::path path = testing::scratch_dir() / "plate.gcode";
   write_gcode(path, testing::disk_toolpath(30, 3), load_printer("bambu-p1s"),
-              load_material("pla-generic"));
+              {load_material("pla-generic")});
   const testing::CliResult r =
       run_cli({"check", path.string(), "--printer", "bambu-p1s", "--material", "pla-generic"});
   EXPECT_EQ(r.exit_code, 0) << r.out << r.err;

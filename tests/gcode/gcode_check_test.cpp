@@ -59,7 +59,7 @@ TEST(GcodeCheck, FlagsEveryUnsafeFileForItsReason) {
     const PrinterProfile printer =
         load_printer(printer_name.empty() ? "generic-marlin" : printer_name);
     const std::vector<GcodeViolation> found =
-        check_gcode(text, printer, load_material("pla-paper"));
+        check_gcode(text, printer, {load_material("pla-paper")});
     ASSERT_FALSE(found.empty()) << "not flagged";
     std::set<std::string> kinds;
     for (const GcodeViolation& v : found) kinds.insert(std::string(to_string(v.kind)));
@@ -78,7 +78,7 @@ TEST(GcodeCheck, TheSkeletonOfTheUnsafeFilesIsSafe) {
       "G1 X20 Y20 F3000\nG1 X60 Y20 E1.5 F1200\nG1 E-2 F2400\nG1 X100 Y50 F3000\nG1 E2 F2400\n"
       "G3 X100 Y90 I0 J20 E3 F1200\nG1 Z10 F600\nM104 S0\nM140 S0\nM84\n";
   EXPECT_TRUE(
-      check_gcode(safe, load_printer("generic-marlin"), load_material("pla-paper")).empty());
+      check_gcode(safe, load_printer("generic-marlin"), {load_material("pla-paper")}).empty());
 }
 
 TEST(GcodeCheck, ReadsTheUsualSpellings) {
@@ -88,7 +88,7 @@ TEST(GcodeCheck, ReadsTheUsualSpellings) {
   const std::string text =
       "N1 M83*12\nN2 G1 X10 Y10 F3000*99\ng1 x300 (a comment)\nG1X300Y10\nM104 S190 T0\n"
       "M104 S0\nM140 S0\nM84\n";
-  const std::vector<GcodeViolation> found = check_gcode(text, printer, material);
+  const std::vector<GcodeViolation> found = check_gcode(text, printer, {material});
   ASSERT_EQ(found.size(), 2u);
   EXPECT_EQ(found[0].line, 3);
   EXPECT_EQ(found[1].line, 4);
@@ -100,7 +100,7 @@ TEST(GcodeCheck, UnknownCommandsAndMacrosAreFine) {
       "START_PRINT BED_TEMP=55 EXTRUDER_TEMP=190\nM862.3 P \"MK3S\"\nM117 Hello world\n"
       "TIMELAPSE_TAKE_FRAME\nM83\nG1 X10 Y10 F3000\nEND_PRINT\nTURN_OFF_HEATERS\nM84\n";
   EXPECT_TRUE(
-      check_gcode(text, load_printer("generic-klipper"), load_material("pla-paper")).empty());
+      check_gcode(text, load_printer("generic-klipper"), {load_material("pla-paper")}).empty());
 }
 
 TEST(GcodeCheck, AbsoluteRetractionsWithinTheProfileAreFine) {
@@ -109,13 +109,13 @@ TEST(GcodeCheck, AbsoluteRetractionsWithinTheProfileAreFine) {
       "M82\nG92 E0\nG1 X10 Y10 F3000\nG1 X50 Y10 E2 F1200\nG1 E0 F2400\nG1 X50 Y50 F3000\n"
       "G1 E2 F2400\nG1 X10 Y50 E4 F1200\nG92 E0\nG1 X10 Y10 E2 F1200\nM84\n";
   EXPECT_TRUE(
-      check_gcode(text, load_printer("generic-marlin"), load_material("pla-paper")).empty());
+      check_gcode(text, load_printer("generic-marlin"), {load_material("pla-paper")}).empty());
 }
 
 TEST(GcodeCheck, ReportsEveryViolationWithItsLine) {
   const std::string text = "M83\nG1 X10 Y10\nG1 X500 Y10\nG1 X10 Y500\nM104 S300\n";
   const std::vector<GcodeViolation> found =
-      check_gcode(text, load_printer("generic-marlin"), load_material("pla-paper"));
+      check_gcode(text, load_printer("generic-marlin"), {load_material("pla-paper")});
   ASSERT_EQ(found.size(), 5u);
   EXPECT_EQ(found[0].line, 3);  // x
   EXPECT_EQ(found[1].line, 4);  // y
@@ -124,8 +124,9 @@ TEST(GcodeCheck, ReportsEveryViolationWithItsLine) {
   EXPECT_EQ(found[4].kind, ViolationKind::kMotorsOnAtEnd);
   EXPECT_EQ(found[4].line, 5);
   // At most max_violations.
-  EXPECT_EQ(check_gcode(text, load_printer("generic-marlin"), load_material("pla-paper"), 2).size(),
-            2u);
+  EXPECT_EQ(
+      check_gcode(text, load_printer("generic-marlin"), {load_material("pla-paper")}, 2).size(),
+      2u);
 }
 
 TEST(GcodeCheck, SurvivesGarbage) {
@@ -146,7 +147,7 @@ TEST(GcodeCheck, SurvivesGarbage) {
     }
   }
   const std::vector<GcodeViolation> found =
-      check_gcode(text, load_printer("generic-delta"), load_material("pla-paper"));
+      check_gcode(text, load_printer("generic-delta"), {load_material("pla-paper")});
   EXPECT_FALSE(found.empty());
   EXPECT_LE(found.size(), 1000u);
 }
@@ -159,8 +160,8 @@ TEST(GcodeCheck, PassesWhatTheWriterWritesForEveryMaterial) {
       GcodeOptions options;
       options.skirt_loops = 2;
       const GcodeResult result =
-          make_gcode(testing::disk_toolpath(40, 4, {0, 0}), printer, material, options);
-      EXPECT_TRUE(check_gcode(result.text, printer, material).empty())
+          make_gcode(testing::disk_toolpath(40, 4, {0, 0}), printer, {material}, options);
+      EXPECT_TRUE(check_gcode(result.text, printer, {material}).empty())
           << material_name << " on " << printer_name;
     }
   }
@@ -171,7 +172,7 @@ TEST(GcodeCheck, TheWriterBlamesAnUnsafeProfile) {
   PrinterProfile printer = load_printer("generic-marlin");
   printer.start_gcode += "G1 X300 Y10 F3000\n";
   try {
-    make_gcode(testing::disk_toolpath(20, 2), printer, load_material("pla-paper"));
+    make_gcode(testing::disk_toolpath(20, 2), printer, {load_material("pla-paper")});
     FAIL() << "an unsafe start G-code was written";
   } catch (const UserError& e) {
     EXPECT_EQ(e.category(), ErrorCategory::kProfile);

@@ -34,9 +34,11 @@ ReadGcode read_gcode(const std::string& text, double cx, double cy) {
   std::string raw;
   double x = std::nan(""), y = std::nan(""), z = std::nan(""), e = 0;
   bool relative_xyz = false, m83 = false, declared = false, extruded = false;
-  double retracted = 0;
+  std::map<int, double> retracted;  // per tool: each has its own filament
   std::map<int, double> nozzle;
   int tool = 0;
+  size_t extrusions = 0;  // in layers, so far
+  double feed = -1;
   std::string type;
   double width = 0, height = 0;
   // After ;LAYER_CHANGE, the next two lines must be ;Z: and ;HEIGHT:.
@@ -86,6 +88,7 @@ ReadGcode read_gcode(const std::string& text, double cx, double cy) {
     if (c == "G0" || c == "G1" || c == "G28") r.motors_off_at_end = false;
     if (c == "G0" || c == "G1") {
       const double nx = word(words, 'X'), ny = word(words, 'Y'), nz = word(words, 'Z');
+      if (!std::isnan(word(words, 'F'))) feed = word(words, 'F');
       const double ox = x, oy = y;
       if (!std::isnan(nx)) x = relative_xyz ? x + nx : nx;
       if (!std::isnan(ny)) y = relative_xyz ? y + ny : ny;
@@ -108,14 +111,14 @@ ReadGcode read_gcode(const std::string& text, double cx, double cy) {
       e = (m83 || relative_xyz) ? e + ev : ev;
       const bool moves = !std::isnan(nx) || !std::isnan(ny) || !std::isnan(nz);
       if (de < 0) {
-        retracted -= de;
+        retracted[tool] -= de;
         continue;
       }
       if (!moves) {
-        retracted = std::max(0.0, retracted - de);
+        retracted[tool] = std::max(0.0, retracted[tool] - de);
         continue;
       }
-      if (retracted > 1e-9) ++r.extrusions_while_retracted;
+      if (retracted[tool] > 1e-9) ++r.extrusions_while_retracted;
       if (de <= 0) continue;
       if (!extruded) r.mode_declared_before_extrusion = declared;
       extruded = true;
@@ -126,7 +129,10 @@ ReadGcode read_gcode(const std::string& text, double cx, double cy) {
       if (type.empty() || width <= 0) {
         r.annotation_errors.push_back("extrusion without ;TYPE: or ;WIDTH: in effect: " + raw);
       }
-      r.layers.back().extrusions.push_back({ox, oy, x, y, z, de, type, width, height});
+      const auto target = nozzle.find(tool);
+      r.layers.back().extrusions.push_back({ox, oy, x, y, z, de, type, width, height, tool,
+                                            target == nozzle.end() ? -1 : target->second, feed});
+      ++extrusions;
     } else if (c == "G90") {
       relative_xyz = false;
     } else if (c == "G91") {
@@ -148,8 +154,10 @@ ReadGcode read_gcode(const std::string& text, double cx, double cy) {
       if (std::isnan(t)) t = word(words, 'R');
       const double which = word(words, 'T');
       if (!std::isnan(t)) {
-        nozzle[std::isnan(which) ? tool : static_cast<int>(which)] = t;
+        const int target_tool = std::isnan(which) ? tool : static_cast<int>(which);
+        nozzle[target_tool] = t;
         r.nozzle_targets.push_back(t);
+        r.tool_nozzle_targets[target_tool].push_back(t);
       }
     } else if (c == "M140" || c == "M190") {
       const double t = word(words, 'S');
@@ -163,11 +171,16 @@ ReadGcode read_gcode(const std::string& text, double cx, double cy) {
     } else if (c == "M84" || c == "M18") {
       r.motors_off_at_end = true;
     } else if (c[0] == 'T' && c.size() > 1 && std::isdigit(static_cast<unsigned char>(c[1]))) {
-      tool = std::atoi(c.c_str() + 1);
+      const int next = std::atoi(c.c_str() + 1);
+      if (next != tool) {
+        r.tool_changes.push_back({static_cast<int>(r.lines.size()), tool, next, extrusions});
+      }
+      tool = next;
     }
   }
   r.final_nozzle = -1;
   for (const auto& [k, v] : nozzle) r.final_nozzle = std::max(r.final_nozzle, v);
+  r.final_tool_nozzle = nozzle;
   r.relative_e = m83;
   return r;
 }

@@ -17,6 +17,16 @@ struct ReadExtrusion {
   std::string type;          // the ;TYPE: in effect ("" if none)
   double width;              // the ;WIDTH: in effect (0 if none)
   double height;             // the ;HEIGHT: in effect (0 if none)
+  int tool;                  // the tool selected by the last T command (0 before any)
+  double nozzle_target;      // that tool's last M104/M109 target (-1 if none)
+  double feed;               // the F in effect, mm/min (-1 if none)
+};
+
+// A T command that selects another tool than the one in use.
+struct ReadToolChange {
+  int line;                  // 1-based line of the T command
+  int from, to;              // tools
+  size_t extrusions_before;  // extrusions of the layers read before it (the print's, in order)
 };
 
 struct ReadLayer {
@@ -34,7 +44,10 @@ struct ReadGcode {
   double min_z = 1e300;
   // The largest distance of a head position from (cx, cy) given to read_gcode.
   double max_radius = 0;
-  std::vector<double> nozzle_targets;        // every M104/M109 target, in order
+  std::vector<double> nozzle_targets;                      // every M104/M109 target, in order
+  std::map<int, std::vector<double>> tool_nozzle_targets;  // the same per tool (T word or active)
+  std::map<int, double> final_tool_nozzle;                 // per tool, at the end
+  std::vector<ReadToolChange> tool_changes;
   std::vector<double> bed_targets;           // every M140/M190 target, in order
   double final_nozzle = -1, final_bed = -1;  // the targets at the end (-1: never set)
   bool motors_off_at_end = false;

@@ -52,7 +52,7 @@ TEST_P(EveryPrinter, ReaderRecoversTheToolpath) {
   const PrinterProfile printer = load_printer(GetParam());
   const Material material = load_material("pla-paper");
   const Toolpath toolpath = disk_toolpath();
-  const GcodeResult result = make_gcode(toolpath, printer, material);
+  const GcodeResult result = make_gcode(toolpath, printer, {material});
   const Eigen::Vector2d center = bed_center(printer);
   const ReadGcode read = read_gcode(result.text, center.x(), center.y());
 
@@ -104,7 +104,7 @@ TEST_P(EveryPrinter, ReaderRecoversTheToolpath) {
   }
 
   // The check passes what the writer wrote (make_gcode already refuses otherwise).
-  EXPECT_TRUE(check_gcode(result.text, printer, material).empty());
+  EXPECT_TRUE(check_gcode(result.text, printer, {material}).empty());
 
   // Estimates in the slicers' form, consistent with the result.
   EXPECT_EQ(read.header.at("filament used [mm]"), fmt::format("{:.2f}", result.filament_length));
@@ -174,7 +174,7 @@ Eigen::Vector2d printed_center(const ReadGcode& read) {
 TEST(GcodeWriter, CentresThePlateOnTheBed) {
   const PrinterProfile printer = load_printer("creality-cr10s-pro");
   const Toolpath toolpath = disk_toolpath();  // a disk around (37, -12) in the plate frame
-  const GcodeResult result = make_gcode(toolpath, printer, load_material("pla-paper"));
+  const GcodeResult result = make_gcode(toolpath, printer, {load_material("pla-paper")});
   const Eigen::Vector2d expected = Eigen::Vector2d(150, 150) - bbox_center(toolpath);
   EXPECT_NEAR((result.plate_to_bed - expected).norm(), 0, 1e-9);
   EXPECT_NEAR(expected.x(), 150 - 37, 0.5);
@@ -192,7 +192,7 @@ TEST(GcodeWriter, PlacesThePlateWhereAsked) {
   GcodeOptions options;
   options.at = Eigen::Vector2d(60, 150);
   const GcodeResult result =
-      make_gcode(disk_toolpath(30), printer, load_material("pla-paper"), options);
+      make_gcode(disk_toolpath(30), printer, {load_material("pla-paper")}, options);
   const Eigen::Vector2d center = printed_center(read_gcode(result.text));
   EXPECT_NEAR(center.x(), 60, 1e-3);
   EXPECT_NEAR(center.y(), 150, 1e-3);
@@ -202,7 +202,7 @@ TEST(GcodeWriter, PlacesThePlateWhereAsked) {
 TEST(GcodeWriter, RefusesAPlateLargerThanTheBed) {
   const PrinterProfile printer = load_printer("creality-ender3-v2");
   try {
-    make_gcode(disk_toolpath(115, 2), printer, load_material("pla-paper"));
+    make_gcode(disk_toolpath(115, 2), printer, {load_material("pla-paper")});
     FAIL() << "a 230 mm plate on a 220 mm bed was accepted";
   } catch (const UserError& e) {
     EXPECT_EQ(e.category(), ErrorCategory::kInfeasible);
@@ -215,9 +215,9 @@ TEST(GcodeWriter, RefusesAPlateLargerThanTheBed) {
   // Fits alone, but not with a skirt of 5 loops 3 mm away.
   GcodeOptions skirt;
   skirt.skirt_loops = 5;
-  EXPECT_NO_THROW(make_gcode(disk_toolpath(108, 2), printer, load_material("pla-paper")));
+  EXPECT_NO_THROW(make_gcode(disk_toolpath(108, 2), printer, {load_material("pla-paper")}));
   try {
-    make_gcode(disk_toolpath(108, 2), printer, load_material("pla-paper"), skirt);
+    make_gcode(disk_toolpath(108, 2), printer, {load_material("pla-paper")}, skirt);
     FAIL() << "the skirt was allowed off the bed";
   } catch (const UserError& e) {
     EXPECT_EQ(e.category(), ErrorCategory::kInfeasible);
@@ -229,7 +229,7 @@ TEST(GcodeWriter, RefusesAPlacementOffTheBed) {
   GcodeOptions options;
   options.at = Eigen::Vector2d(20, 110);
   try {
-    make_gcode(disk_toolpath(30, 2), load_printer("generic-marlin"), load_material("pla-paper"),
+    make_gcode(disk_toolpath(30, 2), load_printer("generic-marlin"), {load_material("pla-paper")},
                options);
     FAIL() << "a plate reaching x = -10 was accepted";
   } catch (const UserError& e) {
@@ -248,8 +248,8 @@ TEST(GcodeWriter, RefusesOnARoundBedWhatOnlyTheSquareWouldHold) {
       testing::line_path({-75, -75}, {75, -75}, 0.1, 0.1, 5, 0, PathType::kCustom));
   layer.paths.push_back(testing::line_path({75, -75}, {75, 75}, 0.1, 0.1, 5, 0, PathType::kCustom));
   square.layers.push_back(layer);
-  EXPECT_THROW(make_gcode(square, delta, load_material("pla-paper")), UserError);
-  EXPECT_NO_THROW(make_gcode(disk_toolpath(95, 2, {0, 0}), delta, load_material("pla-paper")));
+  EXPECT_THROW(make_gcode(square, delta, {load_material("pla-paper")}), UserError);
+  EXPECT_NO_THROW(make_gcode(disk_toolpath(95, 2, {0, 0}), delta, {load_material("pla-paper")}));
 }
 
 TEST(GcodeWriter, RefusesAPrintTallerThanThePrinter) {
@@ -257,7 +257,7 @@ TEST(GcodeWriter, RefusesAPrintTallerThanThePrinter) {
   for (auto& path : toolpath.layers[0].paths) path.points.col(2).setConstant(249.9);
   toolpath.layers[0].z = 249.9;
   try {
-    make_gcode(toolpath, load_printer("creality-ender3-v2"), load_material("pla-paper"));
+    make_gcode(toolpath, load_printer("creality-ender3-v2"), {load_material("pla-paper")});
     FAIL();
   } catch (const UserError& e) {
     EXPECT_EQ(e.category(), ErrorCategory::kInfeasible);
@@ -269,7 +269,7 @@ TEST(GcodeWriter, RefusesAToolThePrinterLacks) {
   Toolpath toolpath = disk_toolpath(20, 1);
   toolpath.layers[0].paths[0].segments[0].tool = 1;
   try {
-    make_gcode(toolpath, load_printer("prusa-mk4"), load_material("pla-paper"));
+    make_gcode(toolpath, load_printer("prusa-mk4"), {load_material("pla-paper")});
     FAIL();
   } catch (const UserError& e) {
     EXPECT_EQ(e.category(), ErrorCategory::kInfeasible);
@@ -283,8 +283,8 @@ TEST(GcodeWriter, SameInputSameBytes) {
   GcodeOptions options;
   options.skirt_loops = 3;
   const std::filesystem::path dir = testing::scratch_dir();
-  write_gcode(dir / "a.gcode", toolpath, printer, material, options);
-  write_gcode(dir / "b.gcode", toolpath, printer, material, options);
+  write_gcode(dir / "a.gcode", toolpath, printer, {material}, options);
+  write_gcode(dir / "b.gcode", toolpath, printer, {material}, options);
   auto slurp = [](const std::filesystem::path& p) {
     std::ifstream in(p, std::ios::binary);
     std::stringstream ss;
@@ -294,12 +294,12 @@ TEST(GcodeWriter, SameInputSameBytes) {
   const std::string a = slurp(dir / "a.gcode");
   EXPECT_GT(a.size(), 100000u);
   EXPECT_EQ(a, slurp(dir / "b.gcode"));
-  EXPECT_EQ(a, make_gcode(toolpath, printer, material, options).text);
+  EXPECT_EQ(a, make_gcode(toolpath, printer, {material}, options).text);
 }
 
 TEST(GcodeWriter, AnnotatesLikePrusaSlicer) {
   const GcodeResult result =
-      make_gcode(disk_toolpath(), load_printer("prusa-mk3s"), load_material("pla-paper"));
+      make_gcode(disk_toolpath(), load_printer("prusa-mk3s"), {load_material("pla-paper")});
   std::istringstream in(result.text);
   std::vector<std::string> lines;
   for (std::string l; std::getline(in, l);) lines.push_back(l);
@@ -349,7 +349,7 @@ TEST(GcodeWriter, RetractsAndLiftsOnLongTravelsOnly) {
   layer.paths.push_back(
       testing::line_path({0, 30}, {20, 30}, 0.2, 0.2, 20, 0, PathType::kSolidInfill));
   toolpath.layers.push_back(layer);
-  const GcodeResult result = make_gcode(toolpath, printer, load_material("pla-paper"));
+  const GcodeResult result = make_gcode(toolpath, printer, {load_material("pla-paper")});
   const std::string& t = result.text;
   const size_t body = t.find(";LAYER_CHANGE");
   // Absolute E: the retraction goes 5 mm back from the current E, the lift is 0.4 mm.
@@ -374,7 +374,7 @@ TEST(GcodeWriter, RetractsAndLiftsOnLongTravelsOnly) {
 TEST(GcodeWriter, RelativeEAndFirmwareRetraction) {
   const PrinterProfile delta = load_printer("generic-delta");  // M83, G10/G11, centre origin
   const GcodeResult result =
-      make_gcode(disk_toolpath(40, 3, {0, 0}), delta, load_material("pla-paper"));
+      make_gcode(disk_toolpath(40, 3, {0, 0}), delta, {load_material("pla-paper")});
   EXPECT_NE(result.text.find("M83 ; relative E"), std::string::npos);
   EXPECT_NE(result.text.find("G10 ; retract (firmware)"), std::string::npos);
   EXPECT_NE(result.text.find("G11 ; unretract (firmware)"), std::string::npos);
@@ -387,7 +387,7 @@ TEST(GcodeWriter, FanFollowsTheMaterial) {
   Material material = load_material("pla-paper");
   material.fan_speed = 50;
   const GcodeResult result =
-      make_gcode(disk_toolpath(20, 3), load_printer("generic-marlin"), material);
+      make_gcode(disk_toolpath(20, 3), load_printer("generic-marlin"), {material});
   const size_t first_layer = result.text.find(";LAYER_CHANGE");
   const size_t second_layer = result.text.find(";LAYER_CHANGE", first_layer + 1);
   EXPECT_LT(result.text.find("M107"), first_layer);  // off on the first layer
@@ -401,7 +401,7 @@ TEST(GcodeWriter, SkirtSurroundsTheFirstLayer) {
   options.skirt_distance = 4;
   const Toolpath toolpath = disk_toolpath(30, 2, {0, 0});
   const PrinterProfile printer = load_printer("generic-marlin");
-  const GcodeResult result = make_gcode(toolpath, printer, load_material("pla-paper"), options);
+  const GcodeResult result = make_gcode(toolpath, printer, {load_material("pla-paper")}, options);
   const ReadGcode read = read_gcode(result.text, 110, 110);
   double skirt_filament = 0, min_radius = 1e9;
   for (const auto& e : read.layers[0].extrusions) {
@@ -428,7 +428,7 @@ TEST(GcodeWriter, TemplatesGetThePrintArea) {
   // The Bambu start G-code levels only the print area (G29 A X Y I J).
   const Toolpath toolpath = disk_toolpath(40, 2, {0, 0});
   const GcodeResult result =
-      make_gcode(toolpath, load_printer("bambu-x1c"), load_material("pla-paper"));
+      make_gcode(toolpath, load_printer("bambu-x1c"), {load_material("pla-paper")});
   const std::string expected = fmt::format(
       "G29 A X{:.3f} Y{:.3f} I{:.3f} J{:.3f}", result.print_min.x(), result.print_min.y(),
       result.print_max.x() - result.print_min.x(), result.print_max.y() - result.print_min.y());

@@ -54,7 +54,7 @@ TEST(ReportGcodePaths, ReadsBackThePathsInThePlateFrame) {
   }
   for (const char* printer : {"generic-marlin", "prusa-mk4", "generic-delta"}) {
     const auto path = testing::scratch_dir() / "plate.gcode";
-    write_gcode(path, toolpath, load_printer(printer), load_material("pla-paper"));
+    write_gcode(path, toolpath, load_printer(printer), {load_material("pla-paper")});
     const GcodePaths read = read_gcode_paths(path);
     ASSERT_EQ(read.toolpath.layers.size(), 2u) << printer;
     EXPECT_FALSE(header_value(read, "estimated printing time (normal mode)").empty());
