@@ -154,34 +154,27 @@ int run_design(DesignCliOptions& o, const GlobalOptions& global) {
   Design design = design_shrink_morph(std::move(mesh), source, options);
   design.metrics.t_prepare_s += load_seconds;
 
-  Mesh flat;
-  flat.V = Eigen::MatrixXd::Zero(design.flat.plate.rows(), 3);
-  flat.V.leftCols(2) = design.flat.plate;
-  flat.F = design.flat.target.F;
+  const PlateDesign plate =
+      shrink_morph_plate_design(design.flat, design.theta2, material, o.layers);
 
   // Trajectories and G-code are planned (and a plate too large for the bed refused) before
   // anything is written.
   std::optional<PrintPlan> plan;
   if (o.gcode) {
     PrintFilesOptions print_options;
-    print_options.layers = o.layers;
     print_options.progress = options.progress;
-    plan = plan_print(design.flat.plate, flat.F, design.flat.theta1, design.theta2, printer,
-                      material, print_options);
+    plan = plan_print(plate, printer, print_options);
     design.metrics.t_traj_s = plan->seconds;
   }
 
   const std::filesystem::path dir = o.output;
   create_output_folder(dir);
-  MeshProperties flat_properties;
-  flat_properties.set_face("theta1", design.flat.theta1);
-  flat_properties.set_vertex("theta2", design.theta2);
   MeshProperties simulated_properties;
   simulated_properties.set_vertex("deviation_mm", design.dist_to_optim.per_vertex_mm);
   write_ply(dir / "target.ply", design.flat.target);
-  write_ply(dir / "flat.ply", flat, flat_properties);
-  write_ply(dir / "simulated.ply", Mesh{design.optimized, flat.F}, simulated_properties);
-  if (plan) write_print_files(dir, *plan, printer, material);
+  write_plate_design(dir / "flat.ply", plate);
+  write_ply(dir / "simulated.ply", Mesh{design.optimized, plate.F}, simulated_properties);
+  if (plan) write_print_files(dir, *plan, printer, plate.stack);
 
   nlohmann::ordered_json j;
   j["input"] = source;

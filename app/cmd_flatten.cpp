@@ -14,6 +14,7 @@
 #include "mesh/io.h"
 #include "mesh/prepare.h"
 #include "mesh_input.h"
+#include "methods/shrink_morph/design.h"
 #include "methods/shrink_morph/flatten.h"
 #include "output_folder.h"
 
@@ -28,6 +29,7 @@ struct FlattenCliOptions {
   double width_mm = std::numeric_limits<double>::quiet_NaN();
   double w_D = 0.0;
   std::string material = "pla-paper";
+  int layers = 10;
   int faces = 10000;
   bool flip = false;
   std::string output;
@@ -49,6 +51,8 @@ void check(const FlattenCliOptions& o) {
                       o.w_D));
   require(o.faces >= 1 && o.faces <= kMaxFaces,
           fmt::format("--faces {}: the face count must be between 1 and {}", o.faces, kMaxFaces));
+  require(o.layers >= 1 && o.layers <= 1000,
+          fmt::format("--layers {}: give 1 to 1000 layers", o.layers));
   require(!o.output.empty(), "flatmorph flatten needs an output folder: -o DIR");
 }
 
@@ -69,18 +73,13 @@ int run_flatten(const FlattenCliOptions& options, const GlobalOptions& global) {
   flatten_options.flip = options.flip;
   const FlatPlate plate = flatten(mesh, flatten_options);
 
-  // The plate at z = 0 with the target's vertex and face order, so the two files pair up.
-  Mesh flat;
-  flat.V = Eigen::MatrixXd::Zero(plate.plate.rows(), 3);
-  flat.V.leftCols(2) = plate.plate;
-  flat.F = plate.target.F;
-  MeshProperties properties;
-  properties.set_face("theta1", plate.theta1);
-  properties.set_face("sv_deviation", plate.sv_deviation);
+  // The plate at z = 0 with the target's vertex and face order, so the two files pair up, printed
+  // with theta2 = 0.
   const std::filesystem::path dir = options.output;
   create_output_folder(dir);
   write_ply(dir / "target.ply", plate.target);
-  write_ply(dir / "flat.ply", flat, properties);
+  write_plate_design(dir / "flat.ply",
+                     shrink_morph_plate_design(plate, Eigen::VectorXd(), material, options.layers));
 
   for (const std::string& warning : plate.warnings) {
     fmt::print(stderr, "flatmorph: warning: {}\n", warning);
@@ -126,6 +125,10 @@ Command make_flatten_command(CLI::App& app, const GlobalOptions& global) {
   sub->add_option("--wD", options->w_D,
                   "Smoothing weight of the print directions (Eq. 12), 0 for none; the paper "
                   "uses 0.1 for smoother paths at a small cost in shape accuracy")
+      ->capture_default_str();
+  sub->add_option("--layers", options->layers,
+                  "Number of printed layers the plate's stack file records (flat.stack.json; "
+                  "toolpaths and simulate print that many)")
       ->capture_default_str();
   sub->add_option("--material", options->material,
                   "Material preset name or material JSON file; its shrink ratios lambda1, "

@@ -10,7 +10,8 @@
 #include "mesh/io.h"
 #include "plate/laminate.h"
 #include "plate/layer_stack.h"
-#include "plate/plate_file.h"
+#include "plate/plate_design.h"
+#include "plate_input.h"
 #include "simulate/distance.h"
 #include "simulate/simulate.h"
 
@@ -19,14 +20,13 @@ namespace {
 
 struct SimulateOptions {
   std::string plate_path;
-  std::string material = "pla-paper";
-  int layers = 10;
+  PlateInputOptions plate_input;
   std::string from = "flat";
   std::string target_path;
   std::string output;
 };
 
-Eigen::MatrixXd read_shape(const std::string& path, const PlateFile& plate, const char* role) {
+Eigen::MatrixXd read_shape(const std::string& path, const PlateDesign& plate, const char* role) {
   MeshFile file = read_mesh(path);
   if (file.mesh.num_vertices() != plate.plate.rows() || file.mesh.F != plate.F) {
     throw UserError(ErrorCategory::kGeometry,
@@ -47,24 +47,18 @@ void print_result(const char* label, const SimulationResult& r) {
 }
 
 int run_simulate(const SimulateOptions& o, const GlobalOptions& global) {
-  if (o.layers < 1 || o.layers > 1000) {
-    throw UserError(ErrorCategory::kOption,
-                    fmt::format("--layers {} is out of range: give 1 to 1000 layers", o.layers));
-  }
   if (std::filesystem::path(o.output).extension() != ".ply") {
     throw UserError(
         ErrorCategory::kOption,
         fmt::format("-o {}: the predicted shape is written as PLY; name it *.ply", o.output));
   }
-  const Material material = load_material(o.material);
-  const PlateFile plate = read_plate_file(o.plate_path);
+  std::string stack_warning;
+  const PlateDesign plate = load_plate_input(o.plate_path, o.plate_input, stack_warning);
 
   PlateProblem problem;
   problem.plate = plate.plate;
   problem.F = plate.F;
-  problem.rest_forms =
-      laminate(shrink_morph_layer_stack(plate.theta1, vertex_to_face_average(plate.F, plate.theta2),
-                                        material, o.layers, material.layer_height));
+  problem.rest_forms = laminate(plate.stack);
 
   Eigen::MatrixXd target;
   if (!o.target_path.empty()) target = read_shape(o.target_path, plate, "target");
@@ -72,8 +66,8 @@ int run_simulate(const SimulateOptions& o, const GlobalOptions& global) {
   if (o.from != "flat") start = read_shape(o.from, plate, "start shape");
 
   if (!global.quiet) {
-    fmt::print("plate: {} ({} vertices, {} faces), material {}, {} layers of {} mm\n", o.plate_path,
-               plate.plate.rows(), plate.F.rows(), material.name, o.layers, material.layer_height);
+    fmt::print("plate: {} ({} vertices, {} faces), {}\n", o.plate_path, plate.plate.rows(),
+               plate.F.rows(), describe_stack(plate.stack));
   }
   SimulationResult result;
   // With a 3D start, both starts are simulated so that several stable shapes can be reported.
@@ -115,6 +109,7 @@ int run_simulate(const SimulateOptions& o, const GlobalOptions& global) {
     }
   }
   write_ply(o.output, Mesh{result.V, plate.F}, properties);
+  if (!stack_warning.empty()) fmt::print(stderr, "flatmorph: warning: {}\n", stack_warning);
   if (!global.quiet) fmt::print("wrote {}\n", o.output);
   return 0;
 }
@@ -125,17 +120,18 @@ Command make_simulate_command(CLI::App& app, const GlobalOptions& global) {
   auto o = std::make_shared<SimulateOptions>();
   CLI::App* sub = app.add_subcommand(
       "simulate",
-      "Predict the shape a printed plate takes in hot water: the equilibrium of the orthotropic "
-      "non-Euclidean plate energy (Shrink & Morph §3.1) of the layers printed along theta1 "
-      "(per face) and theta2 (per vertex) stored in flat.ply.");
+      "Predict the shape a printed plate takes in hot water: the equilibrium of the "
+      "non-Euclidean plate energy (Shrink & Morph §3.1) of the laminate of the layers stored in "
+      "flat.ply and its stack file flat.stack.json (layer count, thicknesses, materials, "
+      "directions; docs/plate.md).");
   sub->add_option("plate", o->plate_path, "flat.ply written by 'flatmorph flatten' or 'design'")
       ->required();
-  sub->add_option("--material", o->material, "Material preset name or JSON file")
-      ->capture_default_str();
-  sub->add_option("--layers", o->layers,
-                  "Number of printed layers (each of the material's layer "
-                  "height)")
-      ->capture_default_str();
+  sub->add_option("--material", o->plate_input.material,
+                  "Only for a flat.ply without a stack file: material preset name or JSON file "
+                  "(default pla-paper)");
+  sub->add_option("--layers", o->plate_input.layers,
+                  "Only for a flat.ply without a stack file: number of printed layers of the "
+                  "material's layer height (default 10)");
   sub->add_option("--from", o->from,
                   "Start state: 'flat' (the plate with a tiny bump following its rest curvature: "
                   "the honest forward prediction) or a mesh with the plate's vertex order, e.g. "

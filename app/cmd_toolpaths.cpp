@@ -7,7 +7,8 @@
 #include "commands.h"
 #include "common/error.h"
 #include "output_folder.h"
-#include "plate/plate_file.h"
+#include "plate/plate_design.h"
+#include "plate_input.h"
 #include "print_files.h"
 #include "progress_display.h"
 
@@ -17,8 +18,7 @@ namespace {
 struct ToolpathsOptions {
   std::string plate_path;
   std::string printer;
-  std::string material = "pla-paper";
-  int layers = 10;
+  PlateInputOptions plate_input;
   double spacing = 0;  // 0: the printer's nozzle diameter
   std::vector<double> at;
   int skirt = 0;
@@ -27,10 +27,6 @@ struct ToolpathsOptions {
 };
 
 int run_toolpaths(const ToolpathsOptions& o, const GlobalOptions& global) {
-  if (o.layers < 1 || o.layers > 1000) {
-    throw UserError(ErrorCategory::kOption,
-                    fmt::format("--layers {} is out of range: give 1 to 1000 layers", o.layers));
-  }
   if (o.spacing < 0 || o.spacing > 5) {
     throw UserError(ErrorCategory::kOption,
                     fmt::format("--spacing {} mm is out of range: give 0 (the nozzle diameter) "
@@ -44,29 +40,27 @@ int run_toolpaths(const ToolpathsOptions& o, const GlobalOptions& global) {
     throw UserError(ErrorCategory::kOption, "--skirt takes 0 to 20 loops");
   }
   const PrinterProfile printer = load_printer(o.printer);
-  const Material material = load_material(o.material);
-  const PlateFile plate = read_plate_file(o.plate_path);
+  std::string stack_warning;
+  const PlateDesign plate = load_plate_input(o.plate_path, o.plate_input, stack_warning);
 
   PrintFilesOptions options;
-  options.layers = o.layers;
   options.spacing_mm = o.spacing;
   if (!o.at.empty()) options.at_mm = Eigen::Vector2d(o.at[0], o.at[1]);
   options.skirt_loops = o.skirt;
   const bool silent = global.quiet || o.json;
   options.progress = make_progress_display(silent);
   if (!silent) {
-    fmt::print("plate: {} ({} faces), {} layers of {} mm, paths {} mm apart\n", o.plate_path,
-               plate.F.rows(), o.layers, material.layer_height,
-               o.spacing > 0 ? o.spacing : printer.nozzle_diameter);
+    fmt::print("plate: {} ({} faces), {}, paths {} mm apart\n", o.plate_path, plate.F.rows(),
+               describe_stack(plate.stack), o.spacing > 0 ? o.spacing : printer.nozzle_diameter);
   }
   // Plans the G-code (and refuses a plate that does not fit) before writing anything.
-  const PrintPlan plan =
-      plan_print(plate.plate, plate.F, plate.theta1, plate.theta2, printer, material, options);
+  const PrintPlan plan = plan_print(plate, printer, options);
 
   create_output_folder(o.output);
   const std::filesystem::path out(o.output);
-  write_print_files(out, plan, printer, material);
+  write_print_files(out, plan, printer, plate.stack);
   finish_progress_line();
+  if (!stack_warning.empty()) fmt::print(stderr, "flatmorph: warning: {}\n", stack_warning);
   if (o.json) fmt::print("{}\n", plan_summary_json(plan, printer).dump(2));
   if (!silent) {
     print_plan_summary(plan, printer);
@@ -82,18 +76,21 @@ Command make_toolpaths_command(CLI::App& app, const GlobalOptions& global) {
   auto o = std::make_shared<ToolpathsOptions>();
   CLI::App* sub = app.add_subcommand(
       "toolpaths",
-      "Trace the print paths of every layer of a designed plate (stripe patterns along theta^k = "
-      "theta1 + ((k-1)/(n-1) - 1/2) theta2, k = 1 on the bed), order them to keep travel short, "
-      "and write DIR/plate.gcode, DIR/layers/layer_NNN.svg and DIR/layers/overview.png.");
+      "Trace the print paths of every layer of a designed plate (stripe patterns along each "
+      "layer's direction field, as its stack file flat.stack.json says: layer count, "
+      "thicknesses, materials and tools, docs/plate.md), order them to keep travel short, and "
+      "write DIR/plate.gcode, DIR/layers/layer_NNN.svg and DIR/layers/overview.png.");
   sub->add_option("plate", o->plate_path, "flat.ply written by 'flatmorph flatten' or 'design'")
       ->required();
   sub->add_option("--printer", o->printer,
                   "Printer preset name or JSON file (see 'flatmorph printers')")
       ->required();
-  sub->add_option("--material", o->material,
-                  "Material preset name or JSON file: temperatures, speeds, layer height")
-      ->capture_default_str();
-  sub->add_option("--layers", o->layers, "Number of printed layers")->capture_default_str();
+  sub->add_option("--material", o->plate_input.material,
+                  "Only for a flat.ply without a stack file: material preset name or JSON file "
+                  "(temperatures, speeds, layer height; default pla-paper)");
+  sub->add_option("--layers", o->plate_input.layers,
+                  "Only for a flat.ply without a stack file: number of printed layers (default "
+                  "10)");
   sub->add_option("--spacing", o->spacing,
                   "Distance between neighbouring paths = extrusion width, mm (default: the "
                   "printer's nozzle diameter)");

@@ -18,21 +18,19 @@ std::string duration(double seconds) {
 
 }  // namespace
 
-PrintPlan plan_print(const Eigen::MatrixXd& plate, const Eigen::MatrixXi& F,
-                     const Eigen::VectorXd& theta1, const Eigen::VectorXd& theta2,
-                     const PrinterProfile& printer, const Material& material,
+PrintPlan plan_print(const PlateDesign& design, const PrinterProfile& printer,
                      const PrintFilesOptions& options) {
   const auto start = std::chrono::steady_clock::now();
+  const Eigen::MatrixXd& plate = design.plate;
+  const Eigen::MatrixXi& F = design.F;
   LayerPathOptions path_options;
-  path_options.num_layers = options.layers;
-  path_options.layer_height = material.layer_height;
   path_options.spacing = options.spacing_mm > 0 ? options.spacing_mm : printer.nozzle_diameter;
   path_options.progress = options.progress;
   PrintPlan plan;
-  plan.paths = shrink_morph_layer_paths(plate, F, theta1, theta2, path_options);
+  plan.paths = stack_layer_paths(plate, F, design.stack, path_options);
   if (options.at_mm) plan.gcode_options.at = *options.at_mm;
   plan.gcode_options.skirt_loops = options.skirt_loops;
-  plan.gcode = make_gcode(plan.paths.toolpath, printer, {material}, plan.gcode_options);
+  plan.gcode = make_gcode(plan.paths.toolpath, printer, design.stack.materials, plan.gcode_options);
   for (const std::vector<int>& loop : boundary_loops(F)) {
     Eigen::MatrixX2d outline(loop.size(), 2);
     for (size_t i = 0; i < loop.size(); ++i) outline.row(i) = plate.row(loop[i]);
@@ -43,12 +41,13 @@ PrintPlan plan_print(const Eigen::MatrixXd& plate, const Eigen::MatrixXi& F,
 }
 
 void write_print_files(const std::filesystem::path& dir, const PrintPlan& plan,
-                       const PrinterProfile& printer, const Material& material) {
+                       const PrinterProfile& printer, const LayerStack& stack) {
   PreviewOptions preview;
   preview.outline = plan.outline;
   write_layer_svgs(dir / "layers", plan.paths.toolpath, preview);
   write_overview_png(dir / "layers" / "overview.png", plan.paths.toolpath, preview);
-  write_gcode(dir / "plate.gcode", plan.paths.toolpath, printer, {material}, plan.gcode_options);
+  write_gcode(dir / "plate.gcode", plan.paths.toolpath, printer, stack.materials,
+              plan.gcode_options);
 }
 
 nlohmann::ordered_json plan_summary_json(const PrintPlan& plan, const PrinterProfile& printer) {

@@ -10,12 +10,12 @@
 #include "gcode/gcode_writer.h"
 #include "gcode/printer_profile.h"
 #include "material/material.h"
+#include "plate/plate_design.h"
 #include "toolpath/layer_paths.h"
 
 namespace flatmorph::cli {
 
 struct PrintFilesOptions {
-  int layers = 10;
   double spacing_mm = 0;                 // 0: the printer's nozzle diameter
   std::optional<Eigen::Vector2d> at_mm;  // plate placement on the bed; default centred
   int skirt_loops = 0;
@@ -30,17 +30,15 @@ struct PrintPlan {
   double seconds = 0;  // trajectories and G-code planning, wall clock
 };
 
-// Traces and orders the trajectories of the plate (#V x 2 mm; theta1 per face, theta2 per vertex,
-// rad) and plans the G-code; throws UserError (kInfeasible) when the plate does not fit the
-// printer, before anything is written.
-PrintPlan plan_print(const Eigen::MatrixXd& plate, const Eigen::MatrixXi& F,
-                     const Eigen::VectorXd& theta1, const Eigen::VectorXd& theta2,
-                     const PrinterProfile& printer, const Material& material,
+// Traces and orders the trajectories of every layer of the plate's stack and plans the G-code
+// (each tool prints with the stack's material of that index); throws UserError (kInfeasible)
+// when the plate does not fit the printer, before anything is written.
+PrintPlan plan_print(const PlateDesign& design, const PrinterProfile& printer,
                      const PrintFilesOptions& options);
 
 // Writes dir/plate.gcode, dir/layers/layer_NNN.svg and dir/layers/overview.png.
 void write_print_files(const std::filesystem::path& dir, const PrintPlan& plan,
-                       const PrinterProfile& printer, const Material& material);
+                       const PrinterProfile& printer, const LayerStack& stack);
 
 // The figures of print_plan_summary as JSON: per layer (z, paths, printed and travel mm), totals,
 // print time (s), filament (mm, g), placement on the bed (mm).

@@ -8,6 +8,7 @@
 
 #include "mesh/io.h"
 #include "mesh/subdivide.h"
+#include "methods/shrink_morph/design.h"
 #include "methods/shrink_morph/flatten.h"
 #include "toolpath/layer_paths.h"
 
@@ -26,11 +27,13 @@ const FlatPlate& hat_plate() {
 
 void run_layers(benchmark::State& state, const Eigen::VectorXd& theta2) {
   const FlatPlate& flat = hat_plate();
-  LayerPathOptions options;  // 10 layers of 0.08 mm, paths 0.4 mm apart
+  LayerPathOptions options;  // paths 0.4 mm apart
+  const PlateDesign plate =
+      shrink_morph_plate_design(flat, theta2, Material{}, 10);  // 10 layers of 0.08 mm
   LayerPaths result;
   LayerPathTimings total;
   for (auto _ : state) {
-    result = shrink_morph_layer_paths(flat.plate, flat.target.F, flat.theta1, theta2, options);
+    result = stack_layer_paths(plate.plate, plate.F, plate.stack, options);
     total.refinement += result.timings.refinement;
     total.fields += result.timings.fields;
     total.eigenvector += result.timings.eigenvector;

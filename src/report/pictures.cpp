@@ -37,8 +37,8 @@ std::string label(double v) {
 
 }  // namespace
 
-Canvas plate_picture(const PlateFile& plate, PlateField field, int pixels) {
-  const Eigen::MatrixXd& P = plate.plate;
+Canvas plate_picture(const Eigen::MatrixXd& P, const Eigen::MatrixXi& F,
+                     const Eigen::VectorXd& values, PlateField field, int pixels) {
   Eigen::Vector2d lo(0, 0), hi(1, 1);
   if (P.rows() > 0) {
     lo = P.leftCols(2).colwise().minCoeff().transpose();
@@ -54,19 +54,18 @@ Canvas plate_picture(const PlateFile& plate, PlateField field, int pixels) {
     return Eigen::Vector3d(s * (margin + (P(v, 0) - lo.x()) * scale),
                            s * (margin + (hi.y() - P(v, 1)) * scale), 0);
   };
-  const bool theta2 = field == PlateField::kTheta2 && plate.theta2.size() == P.rows();
-  const double max_theta2 = theta2 ? std::max(1e-12, plate.theta2.cwiseAbs().maxCoeff()) : 1.0;
-  for (Eigen::Index f = 0; f < plate.F.rows(); ++f) {
+  const bool theta2 = field == PlateField::kTheta2 && values.size() == P.rows();
+  const double max_theta2 = theta2 ? std::max(1e-12, values.cwiseAbs().maxCoeff()) : 1.0;
+  for (Eigen::Index f = 0; f < F.rows(); ++f) {
     Eigen::Vector3d c[3];
     for (int k = 0; k < 3; ++k) {
       if (theta2) {
-        c[k] = diverging_color(plate.theta2[plate.F(f, k)] / max_theta2);
+        c[k] = diverging_color(values[F(f, k)] / max_theta2);
       } else {
-        c[k] = cyclic_color(f < plate.theta1.size() ? plate.theta1[f] / std::numbers::pi : 0.0);
+        c[k] = cyclic_color(f < values.size() ? values[f] / std::numbers::pi : 0.0);
       }
     }
-    big.triangle(to_pixel(plate.F(f, 0)), to_pixel(plate.F(f, 1)), to_pixel(plate.F(f, 2)), c[0],
-                 c[1], c[2]);
+    big.triangle(to_pixel(F(f, 0)), to_pixel(F(f, 1)), to_pixel(F(f, 2)), c[0], c[1], c[2]);
   }
   Canvas small = downsampled(big, s);
   Canvas out(small.width, small.height + kBarHeight);

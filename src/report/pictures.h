@@ -5,7 +5,6 @@
 
 #include <Eigen/Core>
 
-#include "plate/plate_file.h"
 #include "raster/raster.h"
 
 namespace flatmorph {
@@ -15,8 +14,10 @@ enum class PlateField {
   kTheta2,  // per vertex, diverging map over -max|theta2|..+max|theta2|
 };
 
-// The plate seen from above (+z, x right, y up), `pixels` wide, with a colour bar below.
-Canvas plate_picture(const PlateFile& plate, PlateField field, int pixels = 800);
+// The plate (#V x 2, mm) seen from above (+z, x right, y up), `pixels` wide, with a colour bar
+// below: coloured by `values`, per face for kTheta1 and per vertex for kTheta2 (rad).
+Canvas plate_picture(const Eigen::MatrixXd& plate, const Eigen::MatrixXi& F,
+                     const Eigen::VectorXd& values, PlateField field, int pixels = 800);
 
 // The shape V, F seen obliquely from above (orthographic, shaded), vertices coloured by
 // `deviation_mm` from 0 (dark blue) to its maximum (yellow), with a colour bar below; grey when

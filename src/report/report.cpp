@@ -186,8 +186,9 @@ Json metrics_json(const RunFolder& run) {
   if (run.flat) {
     shape.add("plate",
               fmt::format("{} vertices, {} faces", run.flat->plate.rows(), run.flat->F.rows()));
-    if (run.flat->theta2.size() > 0) {
-      const double t = run.flat->theta2.cwiseAbs().maxCoeff();
+    if (const Eigen::VectorXd* theta2 = run.flat->design_fields.find_vertex("theta2");
+        theta2 && theta2->size() > 0) {
+      const double t = theta2->cwiseAbs().maxCoeff();
       shape.add("max |θ2|", fmt::format("{:.4f} rad ({:.2f}°)", t, t * 180 / std::numbers::pi));
     }
   }
@@ -295,7 +296,14 @@ void replace_all(std::string& text, const std::string& from, const std::string& 
   }
 }
 
-std::vector<Eigen::MatrixX2d> outline(const PlateFile& plate) {
+// The plate's mean print direction per face: the design's theta1 when it has one, else its bottom
+// layer's direction.
+Eigen::VectorXd plate_theta1(const PlateDesign& plate) {
+  if (const Eigen::VectorXd* theta1 = plate.design_fields.find_face("theta1")) return *theta1;
+  return plate.stack.layers.front().theta;
+}
+
+std::vector<Eigen::MatrixX2d> outline(const PlateDesign& plate) {
   std::vector<Eigen::MatrixX2d> loops;
   for (const std::vector<int>& loop : boundary_loops(plate.F)) {
     Eigen::MatrixX2d o(loop.size(), 2);
@@ -317,14 +325,18 @@ std::string report_html(const RunFolder& run) {
   Json data;
   data["title"] = title(run);
   if (run.flat) {
-    const PlateFile& p = *run.flat;
+    const PlateDesign& p = *run.flat;
     Json plate;
     plate["vertices"] = p.plate.rows();
     plate["faces"] = p.F.rows();
     plate["positions"] = float32(p.plate, 2);
     plate["indices"] = uint32(p.F);
-    plate["theta1"] = float32(p.theta1);
-    if (p.theta2.size() == p.plate.rows()) plate["theta2"] = float32(p.theta2);
+    const Eigen::VectorXd theta1 = plate_theta1(p);
+    plate["theta1"] = float32(theta1);
+    if (const Eigen::VectorXd* theta2 = p.design_fields.find_vertex("theta2");
+        theta2 && theta2->size() == p.plate.rows()) {
+      plate["theta2"] = float32(*theta2);
+    }
     data["plate"] = std::move(plate);
   }
   if (run.target) data["target"] = mesh_json(run.target->mesh);
@@ -354,11 +366,13 @@ std::vector<std::filesystem::path> write_report_pictures(const RunFolder& run) {
   std::vector<std::filesystem::path> written;
   if (run.flat) {
     const auto path = run.dir / "plate_theta1.png";
-    write_png(path, encode_png(plate_picture(*run.flat, PlateField::kTheta1)));
+    const PlateDesign& p = *run.flat;
+    write_png(path, encode_png(plate_picture(p.plate, p.F, plate_theta1(p), PlateField::kTheta1)));
     written.push_back(path);
-    if (run.flat->theta2.size() > 0 && run.flat->theta2.cwiseAbs().maxCoeff() > 0) {
+    const Eigen::VectorXd* theta2 = p.design_fields.find_vertex("theta2");
+    if (theta2 && theta2->size() > 0 && theta2->cwiseAbs().maxCoeff() > 0) {
       const auto path2 = run.dir / "plate_theta2.png";
-      write_png(path2, encode_png(plate_picture(*run.flat, PlateField::kTheta2)));
+      write_png(path2, encode_png(plate_picture(p.plate, p.F, *theta2, PlateField::kTheta2)));
       written.push_back(path2);
     }
   }

@@ -23,7 +23,9 @@ RunFolder read_run_folder(const std::filesystem::path& dir) {
     if (!found) run.missing.emplace_back(name);
     return found;
   };
-  if (exists("flat.ply")) run.flat = read_plate_file(dir / "flat.ply");
+  // A plate without a stack file (an older run) is shown with the default stack: the report only
+  // draws its plate and design fields.
+  if (exists("flat.ply")) run.flat = read_plate_design(dir / "flat.ply", Material{}, 10).design;
   if (exists("target.ply")) run.target = read_mesh(dir / "target.ply");
   if (exists("simulated.ply")) run.simulated = read_mesh(dir / "simulated.ply");
   if (exists("design.json")) {

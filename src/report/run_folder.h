@@ -10,14 +10,15 @@
 #include <vector>
 
 #include "mesh/io.h"
-#include "plate/plate_file.h"
+#include "plate/plate_design.h"
 #include "report/gcode_paths.h"
 
 namespace flatmorph {
 
 struct RunFolder {
   std::filesystem::path dir;
-  std::optional<PlateFile> flat;      // flat.ply: plate, theta1 per face, theta2 per vertex
+  // flat.ply and its stack file; design_fields hold theta1 per face, theta2 per vertex.
+  std::optional<PlateDesign> flat;
   std::optional<MeshFile> target;     // target.ply
   std::optional<MeshFile> simulated;  // simulated.ply, per-vertex deviation_mm if computed
   nlohmann::ordered_json design;      // design.json (null when absent)

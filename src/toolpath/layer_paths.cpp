@@ -8,6 +8,7 @@
 #include "common/error.h"
 #include "common/stopwatch.h"
 #include "mesh/topology.h"
+#include "plate/layer_stack.h"
 #include "toolpath/isolines.h"
 #include "toolpath/line_field.h"
 #include "toolpath/perimeters.h"
@@ -17,23 +18,35 @@
 namespace flatmorph {
 namespace {
 
-void check_options(const Eigen::MatrixXd& plate, const Eigen::MatrixXi& F,
-                   const Eigen::VectorXd& theta1_face, const Eigen::VectorXd& theta2_vertex,
+// The stripe patterns trace one direction field per layer over the whole plate at one bead
+// height with one tool: a layer that varies, or leaves faces out, needs another tracing.
+void check_options(const Eigen::MatrixXd& plate, const Eigen::MatrixXi& F, const LayerStack& stack,
                    const LayerPathOptions& o) {
   const auto fail = [](const std::string& message) {
     throw UserError(ErrorCategory::kOption, "toolpaths: " + message);
   };
   if (plate.cols() < 2 || F.rows() == 0) fail("the plate has no faces; give a flattened plate");
-  if (theta1_face.size() != F.rows()) {
-    fail("theta1 has " + std::to_string(theta1_face.size()) + " values for " +
-         std::to_string(F.rows()) + " faces; give one print direction per face");
+  if (stack.num_layers() < 1) fail("the stack has no layer; give at least one printed layer");
+  if (stack.num_faces() != F.rows()) {
+    fail(fmt::format("the stack has {} faces for a plate of {}; give one value per face",
+                     stack.num_faces(), F.rows()));
   }
-  if (theta2_vertex.size() != 0 && theta2_vertex.size() != plate.rows()) {
-    fail("theta2 has " + std::to_string(theta2_vertex.size()) + " values for " +
-         std::to_string(plate.rows()) + " vertices; give one value per vertex or none");
+  check_layer_stack(stack);
+  for (int k = 0; k < stack.num_layers(); ++k) {
+    const Layer& l = stack.layers[k];
+    if ((l.material.array() != l.material(0)).any() || l.material(0) == Layer::kNotCovered) {
+      fail(
+          fmt::format("layer {} does not print one material over the whole plate; the stripe "
+                      "toolpaths need layers that cover every face with one material",
+                      k + 1));
+    }
+    if ((l.printed_thickness.array() != l.printed_thickness(0)).any()) {
+      fail(
+          fmt::format("layer {}'s printed thickness varies over the plate; the stripe toolpaths "
+                      "print each layer at one height",
+                      k + 1));
+    }
   }
-  if (o.num_layers < 1) fail("the number of layers must be at least 1");
-  if (!(o.layer_height > 0)) fail("the layer height must be positive (mm)");
   if (!(o.spacing > 0)) fail("the path spacing (extrusion width) must be positive (mm)");
   if (!(o.edge_ratio > 0)) fail("the refinement edge ratio must be positive");
   if (!(o.min_path_length >= 0)) fail("the minimum path length must not be negative");
@@ -42,8 +55,8 @@ void check_options(const Eigen::MatrixXd& plate, const Eigen::MatrixXi& F,
   if (o.perimeters < 0) fail("the number of perimeter loops must not be negative");
 }
 
-// Per fine vertex theta1 from the coarse per-vertex line field, interpolated linearly.
-Eigen::VectorXd refined_theta1(const RefinedPlate& refined, const Eigen::VectorXcd& coarse) {
+// Per fine vertex direction from the coarse per-vertex line field, interpolated linearly.
+Eigen::VectorXd refined_theta(const RefinedPlate& refined, const Eigen::VectorXcd& coarse) {
   const Eigen::VectorXd re = refined.S * coarse.real(), im = refined.S * coarse.imag();
   Eigen::VectorXcd u(re.size());
   u.real() = re;
@@ -53,18 +66,15 @@ Eigen::VectorXd refined_theta1(const RefinedPlate& refined, const Eigen::VectorX
 
 }  // namespace
 
-Eigen::VectorXd layer_theta_vertex(const Eigen::MatrixXd& plate, const Eigen::MatrixXi& F,
-                                   const Eigen::VectorXd& theta1_face,
-                                   const Eigen::VectorXd& theta2_vertex, int k, int num_layers) {
-  const Eigen::VectorXd theta1 = line_field_angle(face_to_vertex_line_field(plate, F, theta1_face));
-  return layer_theta(theta1, theta2_vertex, k, num_layers);
+Eigen::VectorXd layer_direction_vertex(const Eigen::MatrixXd& plate, const Eigen::MatrixXi& F,
+                                       const Eigen::VectorXd& layer_theta_face) {
+  return line_field_angle(face_to_vertex_line_field(plate, F, layer_theta_face));
 }
 
-LayerPaths shrink_morph_layer_paths(const Eigen::MatrixXd& plate, const Eigen::MatrixXi& F,
-                                    const Eigen::VectorXd& theta1_face,
-                                    const Eigen::VectorXd& theta2_vertex,
-                                    const LayerPathOptions& options) {
-  check_options(plate, F, theta1_face, theta2_vertex, options);
+LayerPaths stack_layer_paths(const Eigen::MatrixXd& plate, const Eigen::MatrixXi& F,
+                             const LayerStack& stack, const LayerPathOptions& options) {
+  check_options(plate, F, stack, options);
+  const int num_layers = stack.num_layers();
   LayerPaths out;
   const double s = options.spacing;
 
@@ -77,17 +87,14 @@ LayerPaths shrink_morph_layer_paths(const Eigen::MatrixXd& plate, const Eigen::M
   out.timings.refinement = seconds_since(start);
 
   start = Clock::now();
-  const Eigen::VectorXd theta1 =
-      refined_theta1(refined, face_to_vertex_line_field(plate.leftCols<2>(), F, theta1_face));
-  const Eigen::VectorXd theta2 =
-      theta2_vertex.size() ? Eigen::VectorXd(refined.S * theta2_vertex) : Eigen::VectorXd();
   std::vector<Eigen::VectorXd> thetas;
-  for (int k = 1; k <= options.num_layers; ++k) {
-    thetas.push_back(layer_theta(theta1, theta2, k, options.num_layers));
+  for (const Layer& layer : stack.layers) {
+    thetas.push_back(
+        refined_theta(refined, face_to_vertex_line_field(plate.leftCols<2>(), F, layer.theta)));
   }
   out.timings.fields = seconds_since(start);
 
-  report_progress(options.progress, {"trajectories", 0, options.num_layers, NAN,
+  report_progress(options.progress, {"trajectories", 0, num_layers, NAN,
                                      fmt::format("stripe patterns on {} faces", refined.F.rows())});
   start = Clock::now();
   StripeOptions stripe_options = options.stripes;
@@ -111,16 +118,19 @@ LayerPaths shrink_morph_layer_paths(const Eigen::MatrixXd& plate, const Eigen::M
 
   SegmentStyle style;
   style.width = s;
-  style.layer_height = options.layer_height;
   style.feed_rate = options.feed_rate;
-  style.tool = 0;
   style.travel = false;
+  double z = 0;
   Eigen::Vector2d travel_start = plate.leftCols<2>().colwise().minCoeff().transpose();
-  for (int k = 1; k <= options.num_layers; ++k) {
+  for (int k = 1; k <= num_layers; ++k) {
     const StripePattern& pattern = patterns[k - 1];
     LayerPathReport report;
     report.layer = k;
-    report.z = k * options.layer_height;
+    const Layer& printed = stack.layers[k - 1];
+    style.layer_height = printed.printed_thickness(0);
+    style.tool = printed.material(0);
+    z += style.layer_height;
+    report.z = z;
     report.power_iterations = pattern.iterations;
     report.eigen_residual = pattern.residual;
     for (int f = 0; f < refined.F.rows(); ++f) {
@@ -152,7 +162,7 @@ LayerPaths shrink_morph_layer_paths(const Eigen::MatrixXd& plate, const Eigen::M
     start = Clock::now();
     ToolpathLayer layer;
     layer.z = report.z;
-    layer.height = options.layer_height;
+    layer.height = style.layer_height;
     const auto add_path = [&](const Eigen::MatrixX2d& points, bool reversed, bool closed,
                               PathType type) {
       const int m = static_cast<int>(points.rows());
@@ -209,7 +219,7 @@ LayerPaths shrink_morph_layer_paths(const Eigen::MatrixXd& plate, const Eigen::M
     report.paths = static_cast<int>(layer.paths.size());
     out.timings.ordering += seconds_since(start);
     out.toolpath.layers.push_back(std::move(layer));
-    report_progress(options.progress, {"trajectories", k, options.num_layers, NAN,
+    report_progress(options.progress, {"trajectories", k, num_layers, NAN,
                                        fmt::format("layer {}: {} paths", k, report.paths)});
     out.layers.push_back(std::move(report));
   }

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "common/progress.h"
+#include "plate/layer_stack.h"
 #include "toolpath/order_paths.h"
 #include "toolpath/stripe_patterns.h"
 #include "toolpath/toolpath.h"
@@ -14,9 +15,7 @@
 namespace flatmorph {
 
 struct LayerPathOptions {
-  int num_layers = 10;
-  double layer_height = 0.08;  // mm; layer k's paths lie at z = k x layer_height
-  double spacing = 0.4;        // mm between neighbouring paths = the extrusion width
+  double spacing = 0.4;  // mm between neighbouring paths = the extrusion width
   // The plate is refined until its mean edge is at most this x spacing (the longest edges of a
   // flattened plate are then about twice as long; the stripe phase may wind more than once
   // along an edge, which the isoline extraction handles).
@@ -72,27 +71,25 @@ struct LayerPaths {
   double refined_max_edge_mm = 0;
 };
 
-// The print direction of layer k (1 on the bed) per vertex of the plate (rad, from +x, CCW):
-// theta1 (per face) averaged to the vertices as a line field (area-weighted doubled angles), plus
-// ((k-1)/(n-1) - 1/2) theta2 (per vertex; empty means 0). With this project's convention z points
-// up from the bed, so the top layer (k = n) prints theta1 + theta2/2.
-Eigen::VectorXd layer_theta_vertex(const Eigen::MatrixXd& plate, const Eigen::MatrixXi& F,
-                                   const Eigen::VectorXd& theta1_face,
-                                   const Eigen::VectorXd& theta2_vertex, int k, int num_layers);
+// A layer's print direction per vertex of the plate (rad, from +x, CCW): its per-face theta
+// averaged to the vertices as a line field (area-weighted doubled angles), what the stripes follow.
+Eigen::VectorXd layer_direction_vertex(const Eigen::MatrixXd& plate, const Eigen::MatrixXi& F,
+                                       const Eigen::VectorXd& layer_theta_face);
 
-// The paths of every layer for a flat plate (plate #V x 2 or x 3 with z ignored, mm, faces
-// counter-clockwise), theta1 per face and theta2 per vertex (rad; theta2 may be empty): refines the
-// plate (linear 1-to-4 splits), carries the line field of theta1 and theta2 onto it linearly,
-// computes one stripe pattern per layer (warm-started), extracts and chains its isolines, drops
-// short fragments, simplifies, and orders them (order_paths, starting layer 1 at the plate's
-// lower-left bounding-box corner and each next layer where the previous one ended; perimeter
-// loops, when asked for, come first, outermost first, each from its point nearest to where the
-// head is). Every segment
-// extrudes with width = spacing, layer_height, feed_rate and tool 0. Deterministic. Throws
-// UserError(kOption) for inconsistent sizes or out-of-range options.
-LayerPaths shrink_morph_layer_paths(const Eigen::MatrixXd& plate, const Eigen::MatrixXi& F,
-                                    const Eigen::VectorXd& theta1_face,
-                                    const Eigen::VectorXd& theta2_vertex,
-                                    const LayerPathOptions& options);
+// The paths of every layer of the stack (plate/layer_stack.h; the stack decides each layer's
+// direction, bead height and tool) for a flat plate (plate #V x 2 or x 3 with z ignored, mm, faces
+// counter-clockwise): refines the plate (linear 1-to-4 splits), carries each layer's direction
+// field onto it as a line field, computes one stripe pattern per layer (warm-started), extracts
+// and chains its isolines, drops short fragments, simplifies, and orders them (order_paths,
+// starting layer 1 at the plate's lower-left bounding-box corner and each next layer where the
+// previous one ended; perimeter loops, when asked for, come first, outermost first, each from
+// its point nearest to where the head is). Layer k's paths lie at z = the sum of the printed
+// thicknesses of layers 1..k, and every segment extrudes with width = spacing, the layer's
+// thickness, feed_rate and the layer's material index as its tool. Deterministic. Throws
+// UserError(kOption) for inconsistent sizes, out-of-range options, or a layer whose material or
+// thickness varies over the plate or that leaves faces uncovered (the stripe patterns trace whole,
+// uniform layers).
+LayerPaths stack_layer_paths(const Eigen::MatrixXd& plate, const Eigen::MatrixXi& F,
+                             const LayerStack& stack, const LayerPathOptions& options);
 
 }  // namespace flatmorph

@@ -41,17 +41,6 @@ Eigen::VectorXd line_field_angle(const Eigen::VectorXcd& u) {
   return theta;
 }
 
-double layer_offset(int k, int num_layers) {
-  if (num_layers <= 1) return 0;
-  return static_cast<double>(k - 1) / (num_layers - 1) - 0.5;
-}
-
-Eigen::VectorXd layer_theta(const Eigen::VectorXd& theta1_vertex,
-                            const Eigen::VectorXd& theta2_vertex, int k, int num_layers) {
-  if (theta2_vertex.size() == 0) return theta1_vertex;
-  return theta1_vertex + layer_offset(k, num_layers) * theta2_vertex;
-}
-
 Eigen::VectorXi line_field_doubled_index(const Eigen::MatrixXi& F,
                                          const Eigen::VectorXd& theta_vertex) {
   Eigen::VectorXi index(F.rows());

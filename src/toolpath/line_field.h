@@ -17,16 +17,6 @@ Eigen::VectorXcd face_to_vertex_line_field(const Eigen::MatrixXd& V, const Eigen
 // The line direction of doubled-angle values: arg(u) / 2, in (-pi/2, pi/2].
 Eigen::VectorXd line_field_angle(const Eigen::VectorXcd& u);
 
-// Where layer k (k = 1 on the bed, n on top) sits in the plate's thickness:
-// (k - 1)/(n - 1) - 1/2, from -1/2 (bed) to +1/2 (top); 0 for a single layer.
-double layer_offset(int k, int num_layers);
-
-// theta^k = theta1 + ((k-1)/(n-1) - 1/2) theta2 (paper §3.2.3), per vertex. This project's
-// convention: z points up from the bed and the top layer prints theta1 + theta2/2 (the sign the
-// layer stack and the simulator use, plate/layer_stack.h). theta2 may be empty (read as 0).
-Eigen::VectorXd layer_theta(const Eigen::VectorXd& theta1_vertex,
-                            const Eigen::VectorXd& theta2_vertex, int k, int num_layers);
-
 // Doubled index per face: the winding number of e^{2 i theta} around the face (the sum of the three
 // wrapped doubled-angle differences over 2 pi). A line field's index is this over 2 (+1 around
 // concentric circles or radial lines: 2; a +1/2 "comet": 1). Faces with a non-zero value hold a

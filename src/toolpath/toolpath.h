@@ -12,11 +12,11 @@ namespace flatmorph {
 
 // How one segment of a polyline is printed.
 struct SegmentStyle {
-  double width = 0.4;         // extrusion width, mm
-  double layer_height = 0.08; // bead height, mm (may vary along a path)
-  double feed_rate = 0.0;     // mm/s; 0 means the material's speed for this layer and path type
-  int tool = 0;               // extruder index
-  bool travel = false;        // move without extruding
+  double width = 0.4;          // extrusion width, mm
+  double layer_height = 0.08;  // bead height, mm (may vary along a path)
+  double feed_rate = 0.0;      // mm/s; 0 means the material's speed for this layer and path type
+  int tool = 0;                // extruder index
+  bool travel = false;         // move without extruding
 };
 
 // Slicer path types, written as PrusaSlicer ;TYPE: annotations.

@@ -12,22 +12,22 @@ namespace {
 namespace fs = std::filesystem;
 using testing::run_cli;
 
-fs::path flatten_dome(const fs::path& dir) {
-  const auto r = run_cli({"flatten", "--example", "dome", "--width", "40", "--faces", "1000", "-o",
-                          (dir / "design").string()});
+fs::path flatten_dome(const fs::path& dir, const std::string& layers = "10") {
+  const auto r = run_cli({"flatten", "--example", "dome", "--width", "40", "--faces", "1000",
+                          "--layers", layers, "-o", (dir / "design").string()});
   EXPECT_EQ(r.exit_code, 0) << r.err;
   return dir / "design";
 }
 
 TEST(CliToolpaths, WritesCheckedGcodeAndLayerPictures) {
   const fs::path dir = testing::scratch_dir();
-  const fs::path design = flatten_dome(dir);
-  const auto r = run_cli({"toolpaths", (design / "flat.ply").string(), "--printer",
-                          "prusa-mk3s", "--layers", "4", "-o", (dir / "print").string()});
+  const fs::path design = flatten_dome(dir, "4");  // the stack file says 4 layers
+  const auto r = run_cli({"toolpaths", (design / "flat.ply").string(), "--printer", "prusa-mk3s",
+                          "-o", (dir / "print").string()});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("shorter than greedy nearest neighbour"), std::string::npos) << r.out;
-  for (const char* f : {"plate.gcode", "layers/layer_001.svg", "layers/layer_004.svg",
-                        "layers/overview.png"}) {
+  for (const char* f :
+       {"plate.gcode", "layers/layer_001.svg", "layers/layer_004.svg", "layers/overview.png"}) {
     EXPECT_TRUE(fs::exists(dir / "print" / f)) << f;
   }
   EXPECT_FALSE(fs::exists(dir / "print" / "layers" / "layer_005.svg"));
@@ -47,10 +47,10 @@ TEST(CliToolpaths, WritesCheckedGcodeAndLayerPictures) {
 
 TEST(CliToolpaths, RefusesAPlateOffTheBedAndWritesNothing) {
   const fs::path dir = testing::scratch_dir();
-  const fs::path design = flatten_dome(dir);
-  const auto r = run_cli({"toolpaths", (design / "flat.ply").string(), "--printer",
-                          "creality-ender3-v2", "--layers", "2", "--at", "1000,1000", "-o",
-                          (dir / "print").string()});
+  const fs::path design = flatten_dome(dir, "2");
+  const auto r =
+      run_cli({"toolpaths", (design / "flat.ply").string(), "--printer", "creality-ender3-v2",
+               "--at", "1000,1000", "-o", (dir / "print").string()});
   EXPECT_EQ(r.exit_code, 2) << r.err;
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
   EXPECT_FALSE(fs::exists(dir / "print"));
@@ -61,7 +61,8 @@ TEST(CliToolpaths, BadOptionsGiveOneLineErrors) {
   const fs::path design = flatten_dome(dir);
   for (const std::vector<std::string>& extra :
        {std::vector<std::string>{"--printer", "no-such-printer"},
-        std::vector<std::string>{"--printer", "prusa-mk3s", "--layers", "0"},
+        // The plate's stack file decides its layers.
+        std::vector<std::string>{"--printer", "prusa-mk3s", "--layers", "4"},
         std::vector<std::string>{"--printer", "prusa-mk3s", "--spacing", "-1"}}) {
     std::vector<std::string> args = {"toolpaths", (design / "flat.ply").string()};
     args.insert(args.end(), extra.begin(), extra.end());

@@ -359,6 +359,24 @@ TEST(Laminate, BadInputsAreUserErrors) {
   EXPECT_THROW(laminate(s), UserError);
 }
 
+TEST(LayerStack, PrintingRuleAndSignConvention) {
+  // theta^k = theta1 + ((k-1)/(n-1) - 1/2) theta2; bed layer theta1 - theta2/2, top theta1 +
+  // theta2/2 (z up from the bed).
+  EXPECT_DOUBLE_EQ(shrink_morph_layer_weight(1, 10), -0.5);
+  EXPECT_DOUBLE_EQ(shrink_morph_layer_weight(10, 10), 0.5);
+  EXPECT_DOUBLE_EQ(shrink_morph_layer_weight(4, 10), 3.0 / 9 - 0.5);
+  EXPECT_DOUBLE_EQ(shrink_morph_layer_weight(1, 1), 0.0);  // one layer prints theta1
+  Eigen::VectorXd theta1(2), theta2(2);
+  theta1 << 0.1, -0.3;
+  theta2 << 0.4, 0.2;
+  const LayerStack s = shrink_morph_layer_stack(theta1, theta2, paper_material(), 10, 0.08);
+  EXPECT_TRUE(s.layers[9].theta.isApprox(theta1 + theta2 / 2));
+  EXPECT_TRUE(s.layers[0].theta.isApprox(theta1 - theta2 / 2));
+  EXPECT_EQ(s.materials.size(), 1u);
+  EXPECT_TRUE((s.layers[4].material.array() == 0).all());
+  EXPECT_TRUE((s.layers[4].printed_thickness.array() == 0.08).all());
+}
+
 TEST(LayerStack, VertexValuesAverageToFaces) {
   Eigen::MatrixXi F(2, 3);
   F << 0, 1, 2, 2, 1, 3;

@@ -102,14 +102,13 @@ TEST(ReportRunFolder, AFolderWithoutRunFilesIsAUserError) {
 }
 
 TEST(ReportPictures, PlateAndShapeAreDrawnWithTheirColourBars) {
-  PlateFile plate;
-  plate.plate.resize(4, 2);
-  plate.plate << 0, 0, 10, 0, 10, 5, 0, 5;
-  plate.F.resize(2, 3);
-  plate.F << 0, 1, 2, 0, 2, 3;
-  plate.theta1 = Eigen::Vector2d(0.2, 1.4);
-  plate.theta2 = Eigen::Vector4d(-0.1, 0, 0.05, 0.1);
-  const Canvas c = plate_picture(plate, PlateField::kTheta1, 200);
+  Eigen::MatrixXd plate(4, 2);
+  plate << 0, 0, 10, 0, 10, 5, 0, 5;
+  Eigen::MatrixXi F(2, 3);
+  F << 0, 1, 2, 0, 2, 3;
+  const Eigen::VectorXd theta1 = Eigen::Vector2d(0.2, 1.4);
+  const Eigen::VectorXd theta2 = Eigen::Vector4d(-0.1, 0, 0.05, 0.1);
+  const Canvas c = plate_picture(plate, F, theta1, PlateField::kTheta1, 200);
   EXPECT_EQ(c.width, 200);
   // 10 x 5 mm plate: about half as high as wide, plus the colour bar.
   EXPECT_GT(c.height, 100);
@@ -123,7 +122,8 @@ TEST(ReportPictures, PlateAndShapeAreDrawnWithTheirColourBars) {
   EXPECT_NE(pixel(150, 80), pixel(40, 20));
   Eigen::MatrixXd V(4, 3);
   V << 0, 0, 0, 10, 0, 1, 10, 5, 2, 0, 5, 1;
-  const Canvas s = shape_picture(V, plate.F, Eigen::Vector4d(0, 1, 2, 3), 200);
+  const Canvas s = shape_picture(V, F, Eigen::Vector4d(0, 1, 2, 3), 200);
+  EXPECT_EQ(plate_picture(plate, F, theta2, PlateField::kTheta2, 200).width, 200);
   EXPECT_EQ(s.width, 200);
   const std::vector<unsigned char> png = encode_png(s);
   ASSERT_GT(png.size(), 8u);
@@ -134,17 +134,16 @@ TEST(ReportPictures, PlateAndShapeAreDrawnWithTheirColourBars) {
 std::filesystem::path small_run() {
   const auto dir = testing::scratch_dir() / "saddle";
   const std::string d = dir.string();
-  EXPECT_EQ(run_cli({"flatten", "--example", "saddle", "--width", "40", "--faces", "1", "-o", d})
+  EXPECT_EQ(run_cli({"flatten", "--example", "saddle", "--width", "40", "--faces", "1", "--layers",
+                     "4", "-o", d})
                 .exit_code,
             0);
   EXPECT_EQ(run_cli({"simulate", d + "/flat.ply", "--target", d + "/target.ply", "-o",
                      d + "/simulated.ply"})
                 .exit_code,
             0);
-  EXPECT_EQ(run_cli({"toolpaths", d + "/flat.ply", "--printer", "generic-marlin", "--layers", "4",
-                     "-o", d})
-                .exit_code,
-            0);
+  EXPECT_EQ(
+      run_cli({"toolpaths", d + "/flat.ply", "--printer", "generic-marlin", "-o", d}).exit_code, 0);
   return dir;
 }
 

@@ -82,17 +82,17 @@ TEST(Interrupt, SigintDuringFlattenExits130AndWritesNothing) {
 // temporary file, and a layers/ folder only with every layer in it.
 TEST(Interrupt, SigintAtAnyMomentOfToolpathsLeavesOnlyCompleteFiles) {
   const fs::path dir = testing::scratch_dir();
-  const auto flat = testing::run_cli({"flatten", "--example", "dome", "--width", "60", "--faces",
-                                      "2000", "-o", (dir / "plate").string()});
-  ASSERT_EQ(flat.exit_code, 0) << flat.err;
   const int layers = 40;
+  const auto flat =
+      testing::run_cli({"flatten", "--example", "dome", "--width", "60", "--faces", "2000",
+                        "--layers", std::to_string(layers), "-o", (dir / "plate").string()});
+  ASSERT_EQ(flat.exit_code, 0) << flat.err;
   int interrupted = 0;
   for (int delay_ms = 50; delay_ms <= 3000; delay_ms = delay_ms * 3 / 2) {
     SCOPED_TRACE(delay_ms);
     const fs::path out = dir / ("out" + std::to_string(delay_ms));
-    const pid_t pid =
-        start_cli({"toolpaths", (dir / "plate" / "flat.ply").string(), "--printer",
-                   "generic-marlin", "--layers", std::to_string(layers), "-o", out.string()});
+    const pid_t pid = start_cli({"toolpaths", (dir / "plate" / "flat.ply").string(), "--printer",
+                                 "generic-marlin", "-o", out.string()});
     const int status = interrupt_after(pid, std::chrono::milliseconds(delay_ms));
     std::printf("interrupted after %d ms: %s\n", delay_ms,
                 status == -1 ? "had finished" : std::to_string(status).c_str());

@@ -12,6 +12,7 @@
 #include <Eigen/Geometry>
 
 #include "common/error.h"
+#include "plate/layer_stack.h"
 #include "toolpath/path_quality.h"
 #include "toolpath/test_plates.h"
 
@@ -27,6 +28,36 @@ using testing::TestPlate;
 
 constexpr double kPi = std::numbers::pi;
 
+// The stripe options plus the stack a test prints: num_layers layers of layer_height mm of the
+// paper's PLA along theta1 and theta2 (per vertex, averaged to faces) by the stack builder.
+struct TestLayers : LayerPathOptions {
+  int num_layers = 10;
+  double layer_height = 0.08;
+};
+
+LayerStack test_stack(const Eigen::MatrixXi& F, const Eigen::VectorXd& theta1,
+                      const Eigen::VectorXd& theta2_vertex, const TestLayers& o) {
+  Material m;
+  m.layer_height = o.layer_height;
+  const Eigen::VectorXd theta2 = theta2_vertex.size() ? vertex_to_face_average(F, theta2_vertex)
+                                                      : Eigen::VectorXd::Zero(theta1.size());
+  return shrink_morph_layer_stack(theta1, theta2, m, o.num_layers, o.layer_height);
+}
+
+LayerPaths shrink_morph_layer_paths(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
+                                    const Eigen::VectorXd& theta1,
+                                    const Eigen::VectorXd& theta2_vertex, const TestLayers& o) {
+  return stack_layer_paths(V, F, test_stack(F, theta1, theta2_vertex, o), o);
+}
+
+// What layer k's paths must follow: its per-face direction carried to the vertices.
+Eigen::VectorXd layer_theta_vertex(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
+                                   const Eigen::VectorXd& theta1,
+                                   const Eigen::VectorXd& theta2_vertex, int k,
+                                   const TestLayers& o) {
+  return layer_direction_vertex(V, F, test_stack(F, theta1, theta2_vertex, o).layers[k - 1].theta);
+}
+
 struct Case {
   TestPlate plate;
   Eigen::VectorXd theta1;  // per face
@@ -34,7 +65,7 @@ struct Case {
 };
 
 // Runs the whole stage and checks every layer against the acceptance thresholds of issue 6.
-LayerPaths check_acceptance(const Case& c, const LayerPathOptions& options) {
+LayerPaths check_acceptance(const Case& c, const TestLayers& options) {
   const LayerPaths result =
       shrink_morph_layer_paths(c.plate.V, c.plate.F, c.theta1, c.theta2, options);
   EXPECT_EQ(static_cast<int>(result.toolpath.layers.size()), options.num_layers);
@@ -45,7 +76,7 @@ LayerPaths check_acceptance(const Case& c, const LayerPathOptions& options) {
     const ToolpathLayer& layer = result.toolpath.layers[k - 1];
     const LayerPathReport& report = result.layers[k - 1];
     const Eigen::VectorXd theta =
-        layer_theta_vertex(c.plate.V, c.plate.F, c.theta1, c.theta2, k, options.num_layers);
+        layer_theta_vertex(c.plate.V, c.plate.F, c.theta1, c.theta2, k, options);
     const PathQuality q = evaluate_path_quality(c.plate.V, c.plate.F, theta, layer.paths,
                                                 report.singular_points, quality_options);
     // Perimeter loops follow the outline, not theta: (d) judges the other paths.
@@ -60,13 +91,13 @@ LayerPaths check_acceptance(const Case& c, const LayerPathOptions& options) {
     EXPECT_EQ(q.points_outside, 0) << "layer " << k;
     EXPECT_LT(qi.angle_median_deg, 2.0) << "layer " << k;
     EXPECT_LT(qi.angle_p95_deg, 10.0) << "layer " << k;
-    EXPECT_NEAR(layer.z, k * options.layer_height, 1e-12);
+    EXPECT_NEAR(layer.z, k * options.layer_height, 1e-9);
   }
   return result;
 }
 
-LayerPathOptions few_layers(int n) {
-  LayerPathOptions options;
+TestLayers few_layers(int n) {
+  TestLayers options;
   options.num_layers = n;
   return options;
 }
@@ -143,7 +174,7 @@ TEST(LayerPaths, SegmentsAndHeights) {
   Case c;
   c.plate = rectangle_plate(20, 10, 1.5);
   c.theta1 = per_face(c.plate, [](double, double) { return 0.5; });
-  LayerPathOptions options;
+  TestLayers options;
   options.num_layers = 4;
   options.layer_height = 0.1;
   options.spacing = 0.5;
@@ -210,7 +241,7 @@ TEST(LayerPaths, RotatingThePlateRotatesThePaths) {
   const Eigen::Matrix2d R = Eigen::Rotation2Dd(angle).toRotationMatrix();
   r.plate.V = (c.plate.V * R.transpose()).eval();
   r.theta1.array() += angle;
-  LayerPathOptions options = few_layers(1);
+  TestLayers options = few_layers(1);
   const LayerPaths a = shrink_morph_layer_paths(c.plate.V, c.plate.F, c.theta1, c.theta2, options);
   const LayerPaths b = shrink_morph_layer_paths(r.plate.V, r.plate.F, r.theta1, r.theta2, options);
   const std::vector<double> la = sorted_lengths(a.toolpath.layers[0]);
@@ -262,7 +293,7 @@ TEST(LayerPaths, RejectsInconsistentInput) {
   const TestPlate plate = rectangle_plate(10, 10, 2);
   const Eigen::VectorXd theta1 = Eigen::VectorXd::Zero(plate.F.rows());
   const auto expect_option_error = [&](const Eigen::VectorXd& t1, const Eigen::VectorXd& t2,
-                                       const LayerPathOptions& o) {
+                                       const TestLayers& o) {
     try {
       shrink_morph_layer_paths(plate.V, plate.F, t1, t2, o);
       FAIL() << "expected UserError";
@@ -270,17 +301,67 @@ TEST(LayerPaths, RejectsInconsistentInput) {
       EXPECT_EQ(e.category(), ErrorCategory::kOption);
     }
   };
-  expect_option_error(Eigen::VectorXd::Zero(3), Eigen::VectorXd(), LayerPathOptions{});
-  expect_option_error(theta1, Eigen::VectorXd::Zero(3), LayerPathOptions{});
-  LayerPathOptions o;
+  expect_option_error(Eigen::VectorXd::Zero(3), Eigen::VectorXd(), TestLayers{});
+  TestLayers o;
   o.num_layers = 0;
   expect_option_error(theta1, Eigen::VectorXd(), o);
-  o = LayerPathOptions{};
+  o = TestLayers{};
   o.spacing = -0.4;
   expect_option_error(theta1, Eigen::VectorXd(), o);
-  o = LayerPathOptions{};
+  o = TestLayers{};
   o.layer_height = 0;
   expect_option_error(theta1, Eigen::VectorXd(), o);
+  // A stack of another plate, and layers the stripes cannot trace: one leaving a face out, one
+  // of two materials, one of two thicknesses.
+  const auto expect_stack_error = [&](const LayerStack& stack) {
+    try {
+      stack_layer_paths(plate.V, plate.F, stack, LayerPathOptions{});
+      FAIL() << "expected UserError";
+    } catch (const UserError& e) {
+      EXPECT_EQ(e.category(), ErrorCategory::kOption);
+    }
+  };
+  expect_stack_error(test_stack(plate.F.topRows(2), theta1.head(2), Eigen::VectorXd(), {}));
+  const LayerStack good = test_stack(plate.F, theta1, Eigen::VectorXd(), {});
+  EXPECT_NO_THROW(stack_layer_paths(plate.V, plate.F, good, LayerPathOptions{}));
+  LayerStack uncovered = good;
+  uncovered.layers[3].material(0) = Layer::kNotCovered;
+  expect_stack_error(uncovered);
+  LayerStack two_materials = good;
+  two_materials.materials.push_back(good.materials[0]);
+  two_materials.layers[2].material(1) = 1;
+  expect_stack_error(two_materials);
+  LayerStack two_heights = good;
+  two_heights.layers[5].printed_thickness(0) = 0.1;
+  expect_stack_error(two_heights);
+}
+
+// A stack decides each layer's bead height and tool: a layer of a second material prints with
+// tool 1 at its own thickness, on top of the ones below.
+TEST(LayerPaths, LayerThicknessAndToolComeFromTheStack) {
+  const TestPlate plate = rectangle_plate(20, 10, 1.0);
+  const Eigen::VectorXd theta1 = Eigen::VectorXd::Zero(plate.F.rows());
+  TestLayers o;
+  o.num_layers = 3;
+  LayerStack stack = test_stack(plate.F, theta1, Eigen::VectorXd(), o);
+  stack.materials.push_back(stack.materials[0]);
+  stack.layers[1].material.setConstant(1);
+  stack.layers[1].printed_thickness.setConstant(0.12);
+  const LayerPaths result = stack_layer_paths(plate.V, plate.F, stack, o);
+  ASSERT_EQ(result.toolpath.layers.size(), 3u);
+  const double z[3] = {0.08, 0.20, 0.28}, height[3] = {0.08, 0.12, 0.08};
+  for (int k = 0; k < 3; ++k) {
+    const ToolpathLayer& layer = result.toolpath.layers[k];
+    EXPECT_NEAR(layer.z, z[k], 1e-12);
+    EXPECT_EQ(layer.height, height[k]);
+    ASSERT_FALSE(layer.paths.empty());
+    for (const PathPolyline& p : layer.paths) {
+      for (const SegmentStyle& style : p.segments) {
+        EXPECT_EQ(style.tool, k == 1 ? 1 : 0);
+        EXPECT_EQ(style.layer_height, height[k]);
+      }
+    }
+  }
 }
 
 TEST(LayerPaths, PerimeterLoops) {
@@ -289,7 +370,7 @@ TEST(LayerPaths, PerimeterLoops) {
   Case c;
   c.plate = rectangle_plate(40, 20, 1.5);
   c.theta1 = per_face(c.plate, [](double, double) { return 0.4; });
-  LayerPathOptions options = few_layers(1);
+  TestLayers options = few_layers(1);
   options.perimeters = 2;
   const LayerPaths result = check_acceptance(c, options);
   const auto& paths = result.toolpath.layers[0].paths;

@@ -44,21 +44,6 @@ TEST(LineField, AreaWeighted) {
   EXPECT_NEAR(vertex(0), expected, 1e-12);
 }
 
-TEST(LineField, LayerFormulaAndSignConvention) {
-  // theta^k = theta1 + ((k-1)/(n-1) - 1/2) theta2; bed layer theta1 - theta2/2, top theta1 +
-  // theta2/2 (z up from the bed).
-  EXPECT_DOUBLE_EQ(layer_offset(1, 10), -0.5);
-  EXPECT_DOUBLE_EQ(layer_offset(10, 10), 0.5);
-  EXPECT_DOUBLE_EQ(layer_offset(4, 10), 3.0 / 9 - 0.5);
-  EXPECT_DOUBLE_EQ(layer_offset(1, 1), 0.0);  // a single layer prints theta1, no division by 0
-  Eigen::VectorXd theta1(2), theta2(2);
-  theta1 << 0.1, -0.3;
-  theta2 << 0.4, 0.2;
-  EXPECT_TRUE(layer_theta(theta1, theta2, 10, 10).isApprox(theta1 + theta2 / 2));
-  EXPECT_TRUE(layer_theta(theta1, theta2, 1, 10).isApprox(theta1 - theta2 / 2));
-  EXPECT_TRUE(layer_theta(theta1, Eigen::VectorXd(), 3, 10).isApprox(theta1));
-}
-
 TEST(LineField, DoubledIndexFindsSingularities) {
   const testing::TestPlate plate = testing::disk_plate(20, 2.0);
   const auto count = [&](const testing::Field& field, int expected_value) {

@@ -17,6 +17,25 @@
 
 namespace flatmorph {
 
+PlateDesign shrink_morph_plate_design(const FlatPlate& flat, const Eigen::VectorXd& theta2,
+                                      const Material& material, int num_layers) {
+  const Eigen::VectorXd theta2_vertex =
+      theta2.size() ? theta2 : Eigen::VectorXd::Zero(flat.plate.rows());
+  PlateDesign design;
+  design.plate = flat.plate;
+  design.F = flat.target.F;
+  design.stack =
+      shrink_morph_layer_stack(flat.theta1, vertex_to_face_average(design.F, theta2_vertex),
+                               material, num_layers, material.layer_height);
+  design.method = "shrink_morph";
+  design.design_fields.set_face("theta1", flat.theta1);
+  if (flat.sv_deviation.size() == flat.theta1.size()) {
+    design.design_fields.set_face("sv_deviation", flat.sv_deviation);
+  }
+  design.design_fields.set_vertex("theta2", theta2_vertex);
+  return design;
+}
+
 double printed_side_agreement(const FlatPlate& flat, const Material& material, int num_layers) {
   const Eigen::MatrixXi& F = flat.target.F;
   const int nf = static_cast<int>(F.rows());

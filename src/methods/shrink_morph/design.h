@@ -13,6 +13,7 @@
 #include "mesh/mesh.h"
 #include "methods/shrink_morph/flatten.h"
 #include "methods/shrink_morph/optimize_theta2.h"
+#include "plate/plate_design.h"
 #include "simulate/distance.h"
 
 namespace flatmorph {
@@ -114,6 +115,12 @@ struct StretchChoice {
 };
 StretchChoice choose_initial_stretch(const Mesh& target, const FlattenOptions& options,
                                      const Material& material, int num_layers, PrintedSide side);
+
+// The plate to print: the flattened plate, its layer stack (shrink_morph_layer_stack of theta1
+// and theta2 averaged to faces, num_layers layers of material.layer_height mm of `material`) and
+// the design fields theta1 (per face), theta2 (per vertex; empty: zeros) and sv_deviation.
+PlateDesign shrink_morph_plate_design(const FlatPlate& flat, const Eigen::VectorXd& theta2,
+                                      const Material& material, int num_layers);
 
 // Runs the pipeline on a target surface (any units; the plate is options.width_mm wide). `source`
 // names the input in error messages. Throws UserError for bad options or a target that is not a

@@ -1,0 +1,53 @@
+#include "plate_input.h"
+
+#include <fmt/core.h>
+
+#include <filesystem>
+
+#include "common/error.h"
+#include "material/material.h"
+
+namespace flatmorph::cli {
+
+PlateDesign load_plate_input(const std::string& path, const PlateInputOptions& options,
+                             std::string& warning) {
+  std::error_code error;
+  const std::filesystem::path stack = stack_file_path(path);
+  const bool has_stack = std::filesystem::exists(stack, error);
+  if (has_stack && (options.material || options.layers)) {
+    throw UserError(ErrorCategory::kOption,
+                    fmt::format("{}: the plate's stack file {} sets its layers and materials, so "
+                                "--material and --layers do not apply; design the plate again "
+                                "with the ones you want (flatmorph design/flatten --layers N "
+                                "--material M), or delete {} to give them here",
+                                path, stack.filename().string(), stack.filename().string()));
+  }
+  const int layers = options.layers.value_or(10);
+  if (layers < 1 || layers > 1000) {
+    throw UserError(ErrorCategory::kOption,
+                    fmt::format("--layers {} is out of range: give 1 to 1000 layers", layers));
+  }
+  const Material material = load_material(options.material.value_or("pla-paper"));
+  PlateDesignFile file = read_plate_design(path, material, layers);
+  warning.clear();
+  if (!file.from_stack_file) {
+    warning = fmt::format(
+        "{} has no stack file ({}): read as {} layers of {} along its theta1 "
+        "and theta2 (--layers and --material, or their defaults)",
+        path, stack.filename().string(), layers, material.name);
+  }
+  return std::move(file.design);
+}
+
+std::string describe_stack(const LayerStack& stack) {
+  double thickness = 0;
+  for (const Layer& l : stack.layers) thickness += l.printed_thickness.maxCoeff();
+  std::string materials;
+  for (const Material& m : stack.materials) {
+    materials += (materials.empty() ? "" : ", ") + m.name;
+  }
+  return fmt::format("{} layers ({:.3g} mm printed) of {}", stack.num_layers(), thickness,
+                     materials);
+}
+
+}  // namespace flatmorph::cli
