@@ -1,7 +1,9 @@
 // flatmorph check: the G-code safety check (the one every written file passes) on any G-code.
 #include <fmt/core.h>
 
+#include <filesystem>
 #include <fstream>
+#include <optional>
 #include <sstream>
 
 #include "commands.h"
@@ -9,6 +11,7 @@
 #include "gcode/gcode_check.h"
 #include "gcode/printer_profile.h"
 #include "material/material.h"
+#include "plate/plate_design.h"
 
 namespace flatmorph::cli {
 namespace {
@@ -16,7 +19,7 @@ namespace {
 struct CheckOptions {
   std::string file;
   std::string printer;
-  std::string material = "pla-paper";
+  std::optional<std::string> material;
 };
 
 // "pla-paper,tpu-generic": one material per tool, T0 first.
@@ -39,9 +42,24 @@ std::vector<Material> load_tool_materials(const std::string& list) {
   return materials;
 }
 
+// The materials of the run the G-code belongs to: the stack file beside it (a run folder holds
+// plate.gcode and flat.stack.json), else pla-paper for T0.
+std::vector<Material> run_materials(const std::string& gcode_path, std::string& source) {
+  const std::filesystem::path stack = std::filesystem::path(gcode_path).parent_path() / "flat.ply";
+  std::error_code error;
+  if (std::filesystem::exists(stack_file_path(stack), error)) {
+    source = stack_file_path(stack).string();
+    return read_plate_design(stack, Material{}, 1).design.stack.materials;
+  }
+  source = "the default";
+  return {load_material("pla-paper")};
+}
+
 int run_check(const CheckOptions& options, const GlobalOptions& global) {
   const PrinterProfile printer = load_printer(options.printer);
-  const std::vector<Material> materials = load_tool_materials(options.material);
+  std::string source = "--material";
+  const std::vector<Material> materials = options.material ? load_tool_materials(*options.material)
+                                                           : run_materials(options.file, source);
   if (materials.size() > static_cast<size_t>(printer.extruder_count)) {
     throw UserError(ErrorCategory::kOption,
                     fmt::format("--material names {} materials but {} has {} tool(s): give one "
@@ -65,7 +83,8 @@ int run_check(const CheckOptions& options, const GlobalOptions& global) {
   }
   if (violations.empty()) {
     if (!global.quiet) {
-      fmt::print("{}: safe for {} with {}\n", options.file, printer.name, material_names);
+      fmt::print("{}: safe for {} with {} (materials from {})\n", options.file, printer.name,
+                 material_names, source);
     }
     return 0;
   }
@@ -92,7 +111,9 @@ Command make_check_command(CLI::App& app, const GlobalOptions& global) {
   sub->add_option("--printer", options->printer, "Printer preset name or profile JSON file")
       ->required();
   sub->add_option("--material", options->material,
-                  "Material preset name or material JSON file (default: pla-paper); on a printer "
+                  "Material preset name or material JSON file (default: the materials of the run "
+                  "the file belongs to, from flat.stack.json beside it, else pla-paper); on a "
+                  "printer "
                   "with several tools, one per tool, comma-separated in tool order (T0,T1,...: "
                   "pla-paper,tpu-generic). Each tool's temperatures and extrusion are checked "
                   "against its own material, the bed against the lowest maximum; a tool the file "

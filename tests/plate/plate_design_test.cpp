@@ -179,6 +179,13 @@ TEST(PlateDesignCli, ToolpathsAndSimulateUseTheDesignedLayersAndMaterial) {
   EXPECT_NE(gcode.find("M109 S200"), std::string::npos);  // pla-generic's nozzle, not the paper's
   EXPECT_TRUE(fs::exists(dir / "print" / "layers" / "layer_006.svg"));
   EXPECT_FALSE(fs::exists(dir / "print" / "layers" / "layer_007.svg"));
+  // `check` takes the run's materials from the stack file beside the G-code.
+  fs::copy_file(run + "/flat.ply", dir / "print" / "flat.ply");
+  fs::copy_file(run + "/flat.stack.json", dir / "print" / "flat.stack.json");
+  r = testing::run_cli({"check", (dir / "print" / "plate.gcode").string(), "--printer",
+                        "generic-marlin"});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("with pla-generic (materials from"), std::string::npos) << r.out;
   // The prediction from the run's plate is the design's: same distances as design.json.
   r = testing::run_cli({"simulate", run + "/flat.ply", "--from", run + "/simulated.ply", "--target",
                         run + "/target.ply", "-o", (dir / "predicted.ply").string()});
