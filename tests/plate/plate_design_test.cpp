@@ -159,6 +159,26 @@ TEST(PlateDesignFile, AnOlderFlatPlyIsReadWithTheGivenLayersAndMaterial) {
   EXPECT_THROW(read_plate_design(dir / "flat.ply", m, 6), UserError);
 }
 
+// The fuzzer's seed (tests/data/stack) is a valid stack for its two-face plate, so that fuzzing
+// starts inside the format.
+TEST(PlateDesignFile, TheFuzzSeedIsAValidStack) {
+  const fs::path dir = testing::scratch_dir();
+  Mesh mesh;
+  mesh.V.resize(4, 3);
+  mesh.V << 0, 0, 0, 10, 0, 0, 10, 10, 0, 0, 10, 0;
+  mesh.F.resize(2, 3);
+  mesh.F << 0, 1, 2, 0, 2, 3;
+  MeshProperties properties;
+  properties.set_face("layer_2_theta", Eigen::Vector2d(0.5, -0.25));
+  write_ply(dir / "flat.ply", mesh, properties);
+  fs::copy_file(testing::test_data_dir() / "stack" / "two_faces.stack.json",
+                dir / "flat.stack.json");
+  const PlateDesignFile file = read_plate_design(dir / "flat.ply", Material{}, 10);
+  ASSERT_EQ(file.design.stack.num_layers(), 2);
+  EXPECT_EQ(file.design.stack.materials[1].name, "tpu");
+  EXPECT_EQ(file.design.stack.layers[1].theta(1), -0.25);
+}
+
 // Issue 20's acceptance: the run's stack, not the defaults, decides what is printed and simulated.
 TEST(PlateDesignCli, ToolpathsAndSimulateUseTheDesignedLayersAndMaterial) {
   const fs::path dir = testing::scratch_dir();
@@ -182,8 +202,8 @@ TEST(PlateDesignCli, ToolpathsAndSimulateUseTheDesignedLayersAndMaterial) {
   // `check` takes the run's materials from the stack file beside the G-code.
   fs::copy_file(run + "/flat.ply", dir / "print" / "flat.ply");
   fs::copy_file(run + "/flat.stack.json", dir / "print" / "flat.stack.json");
-  r = testing::run_cli({"check", (dir / "print" / "plate.gcode").string(), "--printer",
-                        "generic-marlin"});
+  r = testing::run_cli(
+      {"check", (dir / "print" / "plate.gcode").string(), "--printer", "generic-marlin"});
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("with pla-generic (materials from"), std::string::npos) << r.out;
   // The prediction from the run's plate is the design's: same distances as design.json.
