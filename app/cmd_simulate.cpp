@@ -126,12 +126,7 @@ Command make_simulate_command(CLI::App& app, const GlobalOptions& global) {
       "directions; docs/plate.md).");
   sub->add_option("plate", o->plate_path, "flat.ply written by 'flatmorph flatten' or 'design'")
       ->required();
-  sub->add_option("--material", o->plate_input.material,
-                  "Only for a flat.ply without a stack file: material preset name or JSON file "
-                  "(default pla-paper)");
-  sub->add_option("--layers", o->plate_input.layers,
-                  "Only for a flat.ply without a stack file: number of printed layers of the "
-                  "material's layer height (default 10)");
+  add_plate_input_options(sub, o->plate_input);
   sub->add_option("--from", o->from,
                   "Start state: 'flat' (the plate with a tiny bump following its rest curvature: "
                   "the honest forward prediction) or a mesh with the plate's vertex order, e.g. "

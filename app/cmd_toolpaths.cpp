@@ -85,12 +85,7 @@ Command make_toolpaths_command(CLI::App& app, const GlobalOptions& global) {
   sub->add_option("--printer", o->printer,
                   "Printer preset name or JSON file (see 'flatmorph printers')")
       ->required();
-  sub->add_option("--material", o->plate_input.material,
-                  "Only for a flat.ply without a stack file: material preset name or JSON file "
-                  "(temperatures, speeds, layer height; default pla-paper)");
-  sub->add_option("--layers", o->plate_input.layers,
-                  "Only for a flat.ply without a stack file: number of printed layers (default "
-                  "10)");
+  add_plate_input_options(sub, o->plate_input);
   sub->add_option("--spacing", o->spacing,
                   "Distance between neighbouring paths = extrusion width, mm (default: the "
                   "printer's nozzle diameter)");

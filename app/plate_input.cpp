@@ -9,6 +9,15 @@
 
 namespace flatmorph::cli {
 
+void add_plate_input_options(CLI::App* command, PlateInputOptions& options) {
+  command->add_option("--material", options.material,
+                      "Only for a flat.ply without a stack file: material preset name or JSON "
+                      "file (default pla-paper); a plate with one prints what its stack says");
+  command->add_option("--layers", options.layers,
+                      "Only for a flat.ply without a stack file: number of printed layers of the "
+                      "material's layer height (default 10)");
+}
+
 PlateDesign load_plate_input(const std::string& path, const PlateInputOptions& options,
                              std::string& warning) {
   std::error_code error;

@@ -2,6 +2,7 @@
 // --material/--layers options that only a plate without a stack file may take.
 #pragma once
 
+#include <CLI/CLI.hpp>
 #include <optional>
 #include <string>
 
@@ -14,6 +15,9 @@ struct PlateInputOptions {
   std::optional<std::string> material;
   std::optional<int> layers;
 };
+
+// Adds `--material` and `--layers` (for a flat.ply without a stack file) to a command.
+void add_plate_input_options(CLI::App* command, PlateInputOptions& options);
 
 // Reads the plate. With a stack file, the stack decides: --material or --layers is a UserError
 // (kOption) saying so. Without one, the plate is read as a Shrink & Morph design with the options

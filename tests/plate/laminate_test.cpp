@@ -9,6 +9,7 @@
 
 #include "common/error.h"
 #include "plate/layer_stack.h"
+#include "plate/plate_fixtures.h"
 
 namespace flatmorph {
 namespace {
@@ -318,23 +319,8 @@ TEST(Laminate, AngleDerivativeMatchesFiniteDifferences) {
 // the stiffness ratio (the biaxial moduli E/(1 − ν) have the same ratio for equal ν), h the total
 // thickness; the PLA on top shrinks, so the plate bends toward its top: b̄ = κ I.
 TEST(Laminate, PlaOnTpuBilayerBendsAsTimoshenko) {
-  Material pla, tpu;
-  pla.lambda1 = pla.lambda2 = 0.99;
-  pla.lambda3 = 1.0;
-  pla.delta_lambda1 = 0;
-  pla.young_modulus_along = pla.young_modulus_across = 14.0;
-  pla.poisson_ratio = tpu.poisson_ratio = 0.4;
-  tpu.lambda1 = tpu.lambda2 = tpu.lambda3 = 1.0;
-  tpu.delta_lambda1 = 0;
-  tpu.young_modulus_along = tpu.young_modulus_across = 1.0;
-  LayerStack s;
-  s.materials = {pla, tpu};
-  s.layers.push_back(uniform_layer(1, 1, tpu, 0.5));  // on the bed
-  s.layers.push_back(uniform_layer(1, 0, pla, 0.5));
-  const RestForms lam = laminate(s);
-  const double m = 1, n = 14, h = 1.0, strain = 0.01;
-  const double kappa = 6 * strain * (1 + m) * (1 + m) /
-                       (h * (3 * (1 + m) * (1 + m) + (1 + m * n) * (m * m + 1 / (m * n))));
+  const RestForms lam = laminate(testing::pla_on_tpu_bilayer(1, 0.99));
+  const double kappa = testing::timoshenko_curvature(1, 14, 1.0, 0.01);
   const Eigen::Matrix2d& b = lam.rest_second_fundamental_form[0];
   EXPECT_NEAR(b(0, 0), kappa, 0.05 * kappa);
   EXPECT_NEAR(b(1, 1), kappa, 0.05 * kappa);

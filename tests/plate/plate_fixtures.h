@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "../mesh/mesh_fixtures.h"
+#include "plate/layer_stack.h"
 
 namespace flatmorph::testing {
 
@@ -102,6 +103,33 @@ inline Eigen::MatrixXd unflatten_positions(const Eigen::VectorXd& x) {
   Eigen::MatrixXd X(x.size() / 3, 3);
   for (Eigen::Index v = 0; v < X.rows(); ++v) X.row(v) = x.segment<3>(3 * v).transpose();
   return X;
+}
+
+// One layer of a stiff shrinking material (PLA: E = 14, shrinking isotropically to `shrink`) on
+// one of a soft one that does not shrink (TPU: E = 1), each 0.5 mm thick after heating, equally
+// Poisson (ν = 0.4): the bilayer of Timoshenko (1925), over `num_faces` faces.
+inline LayerStack pla_on_tpu_bilayer(int num_faces, double shrink) {
+  Material pla, tpu;
+  pla.lambda1 = pla.lambda2 = shrink;
+  pla.lambda3 = 1.0;
+  pla.delta_lambda1 = 0;
+  pla.young_modulus_along = pla.young_modulus_across = 14.0;
+  pla.poisson_ratio = tpu.poisson_ratio = 0.4;
+  tpu.lambda1 = tpu.lambda2 = tpu.lambda3 = 1.0;
+  tpu.delta_lambda1 = 0;
+  tpu.young_modulus_along = tpu.young_modulus_across = 1.0;
+  LayerStack stack;
+  stack.materials = {pla, tpu};
+  stack.layers.push_back(uniform_layer(num_faces, 1, tpu, 0.5));  // on the bed
+  stack.layers.push_back(uniform_layer(num_faces, 0, pla, 0.5));
+  return stack;
+}
+
+// Timoshenko's bilayer curvature: κ = 6 Δε (1 + m)² / (h (3 (1 + m)² + (1 + m n)(m² + 1/(m n))))
+// with m the thickness ratio, n the stiffness ratio, h the total thickness (mm), Δε the mismatch.
+inline double timoshenko_curvature(double m, double n, double h, double strain) {
+  return 6 * strain * (1 + m) * (1 + m) /
+         (h * (3 * (1 + m) * (1 + m) + (1 + m * n) * (m * m + 1 / (m * n))));
 }
 
 }  // namespace flatmorph::testing
