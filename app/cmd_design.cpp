@@ -11,17 +11,15 @@
 #include <optional>
 
 #include "commands.h"
-#include "common/atomic_file.h"
 #include "common/error.h"
 #include "gcode/printer_profile.h"
 #include "material/material.h"
 #include "mesh/io.h"
 #include "mesh_input.h"
 #include "methods/shrink_morph/design.h"
-#include "output_folder.h"
-#include "print_files.h"
+#include "print_summary.h"
 #include "progress_display.h"
-#include "report/report.h"
+#include "run/run_folder.h"
 
 namespace flatmorph::cli {
 namespace {
@@ -94,6 +92,28 @@ PrintedSide parse_side(const std::string& side) {
                   fmt::format("--side {}: give auto, normal-up or normal-down", side));
 }
 
+// design.json's metrics as the generic name/value/unit list, the unit read from the key's suffix.
+std::vector<RunMetric> metric_list(const nlohmann::ordered_json& metrics) {
+  constexpr std::pair<const char*, const char*> kUnits[] = {
+      {"_pct", "% of the target's bounding-box diagonal"},
+      {"_s", "s"},
+      {"_rad", "rad"},
+      {"_mm", "mm"},
+      {"_g", "g"}};
+  std::vector<RunMetric> list;
+  for (const auto& [key, value] : metrics.items()) {
+    if (!value.is_number() && !value.is_boolean()) continue;
+    std::string unit;
+    for (const auto& [suffix, name] : kUnits) {
+      if (key.ends_with(suffix)) unit = name;
+    }
+    if (key.ends_with("area_pct") || key.ends_with("deviation_mean_pct")) unit = "%";
+    list.push_back(
+        {key, value.is_boolean() ? (value.get<bool>() ? 1.0 : 0.0) : value.get<double>(), unit});
+  }
+  return list;
+}
+
 nlohmann::ordered_json metrics_json(const DesignMetrics& m) {
   nlohmann::ordered_json j;
   j["faces"] = m.faces;
@@ -133,6 +153,7 @@ int run_design(DesignCliOptions& o, const GlobalOptions& global) {
                     o.width_mm, printer.bed_size.x(), printer.bed_size.y(), printer.name));
   }
   const std::string source = describe(o.input);
+  require_run_folder_destination(o.output);
 
   const auto start = std::chrono::steady_clock::now();
   Mesh mesh = load_mesh_input(o.input).mesh;
@@ -167,15 +188,6 @@ int run_design(DesignCliOptions& o, const GlobalOptions& global) {
     design.metrics.t_traj_s = plan->seconds;
   }
 
-  const std::filesystem::path dir = o.output;
-  create_output_folder(dir);
-  MeshProperties simulated_properties;
-  simulated_properties.set_vertex("deviation_mm", design.dist_to_optim.per_vertex_mm);
-  write_ply(dir / "target.ply", design.flat.target);
-  write_plate_design(dir / "flat.ply", plate);
-  write_ply(dir / "simulated.ply", Mesh{design.optimized, plate.F}, simulated_properties);
-  if (plan) write_print_files(dir, *plan, printer, plate.stack);
-
   nlohmann::ordered_json j;
   j["input"] = source;
   j["width_mm"] = o.width_mm;
@@ -209,12 +221,20 @@ int run_design(DesignCliOptions& o, const GlobalOptions& global) {
     metrics["filament_mm"] = plan->gcode.filament_length;
     metrics["filament_g"] = plan->gcode.filament_mass;
   }
-  j["metrics"] = metrics;
-  write_file_atomically(dir / "design.json", false,
-                        [&](std::ostream& out) { out << j.dump(2) << '\n'; });
-  // Last, so that it shows every file above.
-  report_progress(options.progress, {"report", 0, 0, NAN, "report.html and pictures"});
-  write_report(dir);
+  const std::filesystem::path dir = o.output;
+  RunOutputs run;
+  run.method = plate.method;
+  run.plate = plate;
+  run.target = design.flat.target;
+  run.predicted = Mesh{design.optimized, plate.F};
+  run.predicted_deviation_mm = design.dist_to_optim.per_vertex_mm;
+  run.print = std::move(plan);
+  run.parameters = j;
+  run.metrics = metrics;
+  run.metric_list = metric_list(metrics);
+  write_run_folder(dir, run, &printer, options.progress);
+  const nlohmann::ordered_json record = run_record(run);
+  const std::optional<PrintPlan>& plan_written = run.print;
 
   finish_progress_line();
   for (const std::string& warning : design.flat.warnings) {
@@ -241,10 +261,10 @@ int run_design(DesignCliOptions& o, const GlobalOptions& global) {
                "regularization (--wM, --wL) usually helps\n",
                design.optimization.stop_reason);
   }
-  if (o.json) fmt::print("{}\n", j.dump(2));
+  if (o.json) fmt::print("{}\n", record.dump(2));
   if (silent) return 0;
   const DesignMetrics& m = design.metrics;
-  if (plan) print_plan_summary(*plan, printer);
+  if (plan_written) print_plan_summary(*plan_written, printer);
   fmt::print(
       "distance to target: {:.3f} % / {:.3f} % (avg / max of the diagonal) with theta2 = 0, "
       "{:.3f} % / {:.3f} % optimized; max |theta2| {:.4f} rad\n",
@@ -253,7 +273,7 @@ int run_design(DesignCliOptions& o, const GlobalOptions& global) {
   fmt::print(
       "wrote {}: flat.ply, target.ply, simulated.ply, design.json{}, report.html and "
       "pictures (*.png)\n",
-      dir.string(), plan ? ", plate.gcode, layers/" : "");
+      dir.string(), plan_written ? ", plate.gcode, toolpath.json, layers/" : "");
   return 0;
 }
 

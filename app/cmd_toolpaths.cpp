@@ -9,7 +9,7 @@
 #include "output_folder.h"
 #include "plate/plate_design.h"
 #include "plate_input.h"
-#include "print_files.h"
+#include "print_summary.h"
 #include "progress_display.h"
 
 namespace flatmorph::cli {

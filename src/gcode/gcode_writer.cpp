@@ -598,13 +598,16 @@ std::string speeds_of(const PrinterProfile& printer, const Material& material,
 }
 
 std::string header(const PrinterProfile& printer, const std::vector<Material>& tool_materials,
-                   const Toolpath& toolpath, const GcodeOptions& options, const GcodeResult& result,
+                   const Toolpath& toolpath, const GcodeOptions& options, GcodeResult& result,
                    int section_tool) {
   std::string h;
-  auto add = [&h](const std::string& s) {
+  auto add = [&h, &result](const std::string& s) {
     h += "; ";
     h += s;
     h += '\n';
+    if (const size_t at = s.find(" = "); at != std::string::npos) {
+      result.summary.emplace_back(s.substr(0, at), s.substr(at + 3));
+    }
   };
   const bool one = tool_materials.size() == 1;
   const Material& material = tool_materials.front();

@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "gcode/printer_profile.h"
@@ -59,6 +60,9 @@ struct GcodeResult {
   std::vector<double> tool_filament_length;
   std::vector<double> tool_filament_mass;
   int tool_changes = 0;  // times the tool-change template runs
+  // The header's `key = value` lines as data (print time, filament, printer, materials, speeds),
+  // in file order: what a run folder's report shows without reading the G-code back.
+  std::vector<std::pair<std::string, std::string>> summary;
 };
 
 // The G-code of `toolpath` for `printer`, printing each tool's segments (SegmentStyle::tool) with

@@ -208,14 +208,14 @@ Json metrics_json(const RunFolder& run) {
   sections.push_back(times);
 
   Section print{"Print"};
-  if (run.gcode) {
-    const GcodePaths& g = *run.gcode;
-    print.add("estimated print time", header_value(g, "estimated printing time (normal mode)"));
-    const std::string mm = header_value(g, "filament used [mm]");
+  if (run.print) {
+    const ToolpathFile& g = *run.print;
+    print.add("estimated print time", summary_value(g, "estimated printing time (normal mode)"));
+    const std::string mm = summary_value(g, "filament used [mm]");
     if (!mm.empty()) {
       print.add("filament",
-                fmt::format("{} mm, {} cm³, {} g", mm, header_value(g, "filament used [cm3]"),
-                            header_value(g, "filament used [g]")));
+                fmt::format("{} mm, {} cm³, {} g", mm, summary_value(g, "filament used [cm3]"),
+                            summary_value(g, "filament used [g]")));
     }
     double extruded = 0, travel = 0;
     size_t paths = 0;
@@ -234,12 +234,12 @@ Json metrics_json(const RunFolder& run) {
   Section material{"Material and printer"};
   const std::string printer =
       design.is_object() && find(design, "printer") ? value_text(*find(design, "printer")) : "";
-  if (run.gcode) {
-    const GcodePaths& g = *run.gcode;
+  if (run.print) {
+    const ToolpathFile& g = *run.print;
     for (const char* key :
          {"material", "material_description", "nozzle_temperature", "bed_temperature", "shrink",
           "density", "printer", "printer_description", "bed", "nozzle_diameter", "speeds"}) {
-      material.add(key, header_value(g, key));
+      material.add(key, summary_value(g, key));
     }
   } else {
     if (const Json* name = find(design, "material")) material.add("material", value_text(*name));
@@ -261,14 +261,14 @@ Json metrics_json(const RunFolder& run) {
   }
   sections.push_back(all_metrics);
 
-  Section header{"G-code (plate.gcode header)"};
-  if (run.gcode) {
-    for (const auto& [key, value] : run.gcode->header) header.add(key, value);
+  Section header{"G-code (plate.gcode header, from toolpath.json)"};
+  if (run.print) {
+    for (const auto& [key, value] : run.print->summary) header.add(key, value);
   }
   sections.push_back(header);
 
   Section files{"Run folder"};
-  files.add("folder", run.dir.filename().string());
+  files.add("folder", run.name);
   std::string missing;
   for (const std::string& name : run.missing) missing += (missing.empty() ? "" : ", ") + name;
   files.add("missing files", missing);
@@ -285,9 +285,7 @@ std::string title(const RunFolder& run) {
   if (const Json* input = find(run.design, "input"); input && input->is_string()) {
     return input->get<std::string>();
   }
-  std::string name = run.dir.filename().string();
-  if (name.empty()) name = run.dir.parent_path().filename().string();
-  return name;
+  return run.name;
 }
 
 void replace_all(std::string& text, const std::string& from, const std::string& to) {
@@ -346,7 +344,7 @@ std::string report_html(const RunFolder& run) {
     if (d && d->size() == run.simulated->mesh.V.rows()) predicted["deviation_mm"] = float32(*d);
     data["predicted"] = std::move(predicted);
   }
-  if (run.gcode) data["toolpath"] = layers_json(run.gcode->toolpath);
+  if (run.print) data["toolpath"] = layers_json(run.print->toolpath);
   data["metrics"] = metrics_json(run);
   data["missing"] = run.missing;
 
@@ -383,21 +381,23 @@ std::vector<std::filesystem::path> write_report_pictures(const RunFolder& run) {
                                              d ? *d : Eigen::VectorXd())));
     written.push_back(path);
   }
-  if (run.gcode && !run.gcode->toolpath.layers.empty()) {
+  if (run.print && !run.print->toolpath.layers.empty()) {
     PreviewOptions options;
     if (run.flat) options.outline = outline(*run.flat);
     options.travels = false;
     options.panel_pixels = 300;
     options.max_panels = 16;
     const auto path = run.dir / "layers.png";
-    write_png(path, overview_png(run.gcode->toolpath, options));
+    write_png(path, overview_png(run.print->toolpath, options));
     written.push_back(path);
   }
   return written;
 }
 
-std::vector<std::filesystem::path> write_report(const std::filesystem::path& run_dir) {
-  const RunFolder run = read_run_folder(run_dir);
+std::vector<std::filesystem::path> write_report(const std::filesystem::path& run_dir,
+                                                const std::string& name) {
+  RunFolder run = read_run_folder(run_dir);
+  if (!name.empty()) run.name = name;
   const std::string html = report_html(run);
   const auto path = run_dir / "report.html";
   write_file_atomically(path, true, [&](std::ostream& out) { out << html; });

@@ -21,7 +21,10 @@ std::string report_html(const RunFolder& run);
 std::vector<std::filesystem::path> write_report_pictures(const RunFolder& run);
 
 // Reads the run folder and writes run_dir/report.html and the pictures; returns the files written
-// (report.html first). Throws UserError naming the folder or file when the folder cannot be read.
-std::vector<std::filesystem::path> write_report(const std::filesystem::path& run_dir);
+// (report.html first). `name` is the folder's name the page shows (empty: run_dir's; a run
+// written into a temporary folder first gives the name it will have). Throws UserError naming the
+// folder or file when the folder cannot be read.
+std::vector<std::filesystem::path> write_report(const std::filesystem::path& run_dir,
+                                                const std::string& name = "");
 
 }  // namespace flatmorph

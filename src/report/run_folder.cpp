@@ -18,6 +18,8 @@ RunFolder read_run_folder(const std::filesystem::path& dir) {
   }
   RunFolder run;
   run.dir = dir;
+  run.name = dir.filename().string();
+  if (run.name.empty()) run.name = dir.parent_path().filename().string();
   auto exists = [&](const char* name) {
     const bool found = std::filesystem::is_regular_file(dir / name, ec);
     if (!found) run.missing.emplace_back(name);
@@ -42,11 +44,11 @@ RunFolder read_run_folder(const std::filesystem::path& dir) {
                                   (dir / "design.json").string()));
     }
   }
-  if (exists("plate.gcode")) run.gcode = read_gcode_paths(dir / "plate.gcode");
+  if (exists("toolpath.json")) run.print = read_toolpath_file(dir / "toolpath.json");
   if (run.missing.size() == 5) {
     throw UserError(ErrorCategory::kFile,
                     fmt::format("{}: no flat.ply, target.ply, simulated.ply, design.json or "
-                                "plate.gcode here; give the output folder (-o DIR) of flatmorph "
+                                "toolpath.json here; give the output folder (-o DIR) of flatmorph "
                                 "design",
                                 dir.string()));
   }

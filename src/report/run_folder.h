@@ -11,22 +11,24 @@
 
 #include "mesh/io.h"
 #include "plate/plate_design.h"
-#include "report/gcode_paths.h"
+#include "toolpath/toolpath_file.h"
 
 namespace flatmorph {
 
 struct RunFolder {
   std::filesystem::path dir;
+  std::string
+      name;  // the folder's name as the report shows it (dir's, unless written elsewhere first)
   // flat.ply and its stack file; design_fields hold theta1 per face, theta2 per vertex.
   std::optional<PlateDesign> flat;
   std::optional<MeshFile> target;     // target.ply
   std::optional<MeshFile> simulated;  // simulated.ply, per-vertex deviation_mm if computed
   nlohmann::ordered_json design;      // design.json (null when absent)
-  std::optional<GcodePaths> gcode;    // plate.gcode
+  std::optional<ToolpathFile> print;  // toolpath.json: what plate.gcode prints, as data
   std::vector<std::string> missing;   // the file names that were not there
 };
 
-// Reads DIR/flat.ply, target.ply, simulated.ply, design.json and plate.gcode, whichever exist.
+// Reads DIR/flat.ply, target.ply, simulated.ply, design.json and toolpath.json, whichever exist.
 // Throws UserError(kFile) when DIR is not a folder or holds none of them, and the readers' errors
 // (naming the file) when one is malformed.
 RunFolder read_run_folder(const std::filesystem::path& dir);

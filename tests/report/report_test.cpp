@@ -1,4 +1,4 @@
-// The report module (src/report/): reading back G-code paths, the report page of a run folder, the
+// The report module (src/report/) and the toolpath file it reads: the toolpath as data, the report page of a run folder, the
 // pictures and the view server. The browser acceptance test is report_browser_test.mjs.
 #include <gtest/gtest.h>
 
@@ -11,11 +11,11 @@
 #include "gcode/gcode_writer.h"
 #include "gcode/printer_profile.h"
 #include "material/material.h"
-#include "report/gcode_paths.h"
 #include "report/pictures.h"
 #include "report/report.h"
 #include "report/server.h"
 #include "test_support.h"
+#include "toolpath/toolpath_file.h"
 
 // After Eigen: httplib.h brings <resolv.h>, whose _res macro breaks Eigen's headers.
 #include <httplib.h>
@@ -41,7 +41,9 @@ PathPolyline polyline(std::initializer_list<Eigen::Vector3d> points) {
   return p;
 }
 
-TEST(ReportGcodePaths, ReadsBackThePathsInThePlateFrame) {
+// toolpath.json holds what the G-code prints (each path's points to 1 µm, type, tool, width, the
+// layer's z and height) and the G-code header's figures as data, for the report.
+TEST(ToolpathFile, ReadsBackWhatTheGcodePrints) {
   Toolpath toolpath;
   for (int k = 1; k <= 2; ++k) {
     ToolpathLayer layer;
@@ -49,42 +51,50 @@ TEST(ReportGcodePaths, ReadsBackThePathsInThePlateFrame) {
     layer.height = 0.08;
     layer.paths.push_back(polyline({{0, 0, layer.z}, {20, 0, layer.z}, {20, 1, layer.z}}));
     layer.paths.push_back(polyline({{20, 5, layer.z}, {0, 5, layer.z}}));
-    layer.paths.push_back(polyline({{0, 10, layer.z}, {15, 12, layer.z}}));
+    layer.paths.push_back(polyline({{0, 10, layer.z}, {15.12345678, 12, layer.z}}));
+    layer.paths.back().type = PathType::kPerimeter;
+    for (SegmentStyle& s : layer.paths.back().segments) s.tool = 1;
     toolpath.layers.push_back(layer);
   }
-  for (const char* printer : {"generic-marlin", "prusa-mk4", "generic-delta"}) {
-    const auto path = testing::scratch_dir() / "plate.gcode";
-    write_gcode(path, toolpath, load_printer(printer), {load_material("pla-paper")});
-    const GcodePaths read = read_gcode_paths(path);
-    ASSERT_EQ(read.toolpath.layers.size(), 2u) << printer;
-    EXPECT_FALSE(header_value(read, "estimated printing time (normal mode)").empty());
-    EXPECT_EQ(header_value(read, "printer"), printer);
-    for (size_t k = 0; k < 2; ++k) {
-      const ToolpathLayer& a = toolpath.layers[k];
-      const ToolpathLayer& b = read.toolpath.layers[k];
-      EXPECT_NEAR(b.z, a.z, 1e-6);
-      ASSERT_EQ(b.paths.size(), a.paths.size()) << printer << " layer " << k;
-      for (size_t p = 0; p < a.paths.size(); ++p) {
-        ASSERT_EQ(b.paths[p].points.rows(), a.paths[p].points.rows());
-        EXPECT_LT(
-            (b.paths[p].points.leftCols(2) - a.paths[p].points.leftCols(2)).cwiseAbs().maxCoeff(),
-            2e-3)
-            << printer;
-        EXPECT_EQ(b.paths[p].segments.size(), a.paths[p].segments.size());
-      }
+  const PrinterProfile printer = load_printer("prusa-xl-2t");
+  const GcodeResult gcode =
+      make_gcode(toolpath, printer, {load_material("pla-paper"), load_material("tpu-generic")});
+  const auto path = testing::scratch_dir() / "toolpath.json";
+  write_toolpath_file(path, toolpath, gcode.summary);
+  const ToolpathFile read = read_toolpath_file(path);
+  EXPECT_FALSE(summary_value(read, "estimated printing time (normal mode)").empty());
+  EXPECT_EQ(summary_value(read, "printer"), "prusa-xl-2t");
+  ASSERT_EQ(read.toolpath.layers.size(), 2u);
+  for (size_t k = 0; k < 2; ++k) {
+    const ToolpathLayer& a = toolpath.layers[k];
+    const ToolpathLayer& b = read.toolpath.layers[k];
+    EXPECT_NEAR(b.z, a.z, 5e-4);
+    ASSERT_EQ(b.paths.size(), a.paths.size()) << k;
+    for (size_t p = 0; p < a.paths.size(); ++p) {
+      ASSERT_EQ(b.paths[p].points.rows(), a.paths[p].points.rows());
+      EXPECT_LT(
+          (b.paths[p].points.leftCols(2) - a.paths[p].points.leftCols(2)).cwiseAbs().maxCoeff(),
+          5e-4);
+      EXPECT_EQ(b.paths[p].segments.size(), a.paths[p].segments.size());
+      EXPECT_EQ(b.paths[p].type, a.paths[p].type);
+      EXPECT_EQ(b.paths[p].segments.front().tool, a.paths[p].segments.front().tool);
     }
   }
+  // Same toolpath, same bytes.
+  const std::string text = read_text(path);
+  write_toolpath_file(path, read.toolpath, read.summary);
+  EXPECT_EQ(read_text(path), text);
 }
 
-TEST(ReportGcodePaths, RefusesForeignGcode) {
-  const auto path = testing::scratch_dir() / "other.gcode";
-  std::ofstream(path) << "G28\nG1 X10 Y10 E1\n";
+TEST(ToolpathFile, RefusesAnotherFile) {
+  const auto path = testing::scratch_dir() / "other.json";
+  std::ofstream(path) << "{\"layers\": []}";
   try {
-    read_gcode_paths(path);
+    read_toolpath_file(path);
     FAIL();
   } catch (const UserError& e) {
     EXPECT_EQ(e.category(), ErrorCategory::kFormat);
-    EXPECT_NE(std::string(e.what()).find("other.gcode"), std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("other.json"), std::string::npos);
   }
 }
 
@@ -170,8 +180,8 @@ TEST(ReportPage, IsSelfContainedDeterministicAndHoldsEverySection) {
   const std::string png = read_text(dir / "predicted.png");
   write_report_pictures(run);
   EXPECT_EQ(read_text(dir / "predicted.png"), png);
-  ASSERT_TRUE(run.gcode);
-  EXPECT_EQ(run.gcode->toolpath.layers.size(), 4u);
+  ASSERT_TRUE(run.print);
+  EXPECT_EQ(run.print->toolpath.layers.size(), 4u);
 }
 
 TEST(ReportView, ServesTheViewerOnLoopback) {

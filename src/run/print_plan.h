@@ -1,5 +1,6 @@
-// The print files of a designed plate, shared by `toolpaths` and `design`: the trajectories of
-// every layer (toolpath/layer_paths.h), the checked G-code for a printer, and the layer previews.
+// The print of a designed plate, shared by every run: the trajectories of every layer of its stack
+// (toolpath/layer_paths.h), the checked G-code for a printer, the layer previews and the toolpath
+// as data (toolpath.json).
 #pragma once
 
 #include <Eigen/Core>
@@ -13,7 +14,7 @@
 #include "plate/plate_design.h"
 #include "toolpath/layer_paths.h"
 
-namespace flatmorph::cli {
+namespace flatmorph {
 
 struct PrintFilesOptions {
   double spacing_mm = 0;                 // 0: the printer's nozzle diameter
@@ -36,7 +37,7 @@ struct PrintPlan {
 PrintPlan plan_print(const PlateDesign& design, const PrinterProfile& printer,
                      const PrintFilesOptions& options);
 
-// Writes dir/plate.gcode, dir/layers/layer_NNN.svg and dir/layers/overview.png.
+// Writes dir/plate.gcode, dir/toolpath.json, dir/layers/layer_NNN.svg and dir/layers/overview.png.
 void write_print_files(const std::filesystem::path& dir, const PrintPlan& plan,
                        const PrinterProfile& printer, const LayerStack& stack);
 
@@ -44,7 +45,4 @@ void write_print_files(const std::filesystem::path& dir, const PrintPlan& plan,
 // print time (s), filament (mm, g), placement on the bed (mm).
 nlohmann::ordered_json plan_summary_json(const PrintPlan& plan, const PrinterProfile& printer);
 
-// The per-layer table, travel, timings, placement, print time and filament, on stdout.
-void print_plan_summary(const PrintPlan& plan, const PrinterProfile& printer);
-
-}  // namespace flatmorph::cli
+}  // namespace flatmorph
