@@ -26,14 +26,12 @@ fs::path scratch_dir() {
   return dir;
 }
 
-namespace {
-std::string slurp(const fs::path& path) {
+std::string read_file(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);
   std::stringstream ss;
   ss << in.rdbuf();
   return ss.str();
 }
-}  // namespace
 
 CliResult run_cli(const std::vector<std::string>& args) {
   fs::path dir = fs::path(FLATMORPH_TEST_OUTPUT_DIR) / "cli";
@@ -59,7 +57,7 @@ CliResult run_cli(const std::vector<std::string>& args) {
   int status = 0;
   ::waitpid(pid, &status, 0);
   CliResult result{WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status),
-                   slurp(out_path), slurp(err_path)};
+                   read_file(out_path), read_file(err_path)};
   fs::remove(out_path);
   fs::remove(err_path);
   return result;

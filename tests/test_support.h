@@ -14,6 +14,9 @@ std::filesystem::path shared_dir();
 // A fresh, empty folder under the build tree for this test (named after the running test).
 std::filesystem::path scratch_dir();
 
+// The bytes of a file ("" when it cannot be read).
+std::string read_file(const std::filesystem::path& path);
+
 struct CliResult {
   int exit_code;
   std::string out;

@@ -16,13 +16,6 @@ namespace {
 namespace fs = std::filesystem;
 using testing::run_cli;
 
-std::string read_text(const fs::path& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
 // Fills the after-heating columns of the template: set s shrinks to lambda1 = 0.56 + 0.02 s,
 // lambda2 1.07, lambda3 1.5, curvature 0.03 /mm, with a small per-sample wobble.
 std::string fill(const std::string& sheet) {
@@ -59,16 +52,16 @@ TEST(CliCalibrate, PrintMeasureFit) {
   const auto check = run_cli({"check", (dir / "calib.gcode").string(), "--printer",
                               "creality-cr10s-pro", "--material", "pla-paper"});
   EXPECT_EQ(check.exit_code, 0) << check.out << check.err;
-  const std::string gcode = read_text(dir / "calib.gcode");
+  const std::string gcode = testing::read_file(dir / "calib.gcode");
   EXPECT_NE(gcode.find("M109 S200"), std::string::npos);
-  EXPECT_NE(read_text(dir / "calib.svg").find("#12 (set 4)"), std::string::npos);
+  EXPECT_NE(testing::read_file(dir / "calib.svg").find("#12 (set 4)"), std::string::npos);
 
-  std::ofstream(dir / "measured.csv") << fill(read_text(dir / "calib.csv"));
+  std::ofstream(dir / "measured.csv") << fill(testing::read_file(dir / "calib.csv"));
   const auto fit = run_cli(
       {"calibrate", "fit", (dir / "measured.csv").string(), "-o", (dir / "my-pla.json").string()});
   ASSERT_EQ(fit.exit_code, 0) << fit.err;
   EXPECT_NE(fit.out.find("<- written"), std::string::npos) << fit.out;
-  const nlohmann::json m = nlohmann::json::parse(read_text(dir / "my-pla.json"));
+  const nlohmann::json m = nlohmann::json::parse(testing::read_file(dir / "my-pla.json"));
   // Set 1 (190 C, 0.08 mm) contracts most: lambda1 0.58.
   EXPECT_EQ(m["name"], "my-pla");
   EXPECT_NEAR(m["lambda1"].get<double>(), 0.58, 1e-3);
@@ -88,7 +81,7 @@ TEST(CliCalibrate, PrintMeasureFit) {
   const auto fit3 = run_cli({"calibrate", "fit", (dir / "measured.csv").string(), "--set", "3",
                              "-o", (dir / "set3.json").string()});
   ASSERT_EQ(fit3.exit_code, 0) << fit3.err;
-  const nlohmann::json m3 = nlohmann::json::parse(read_text(dir / "set3.json"));
+  const nlohmann::json m3 = nlohmann::json::parse(testing::read_file(dir / "set3.json"));
   EXPECT_NEAR(m3["lambda1"].get<double>(), 0.62, 1e-3);
   EXPECT_EQ(m3["nozzle_temperature"].get<double>(), 200);
 
@@ -99,7 +92,8 @@ TEST(CliCalibrate, PrintMeasureFit) {
         run_cli({"design", "--example", "saddle", "--faces", "300", "--width", "60", "--material",
                  (dir / "my-pla.json").string(), "-o", (dir / "design").string()});
     ASSERT_EQ(d.exit_code, 0) << d.err;
-    const nlohmann::json j = nlohmann::json::parse(read_text(dir / "design" / "design.json"));
+    const nlohmann::json j =
+        nlohmann::json::parse(testing::read_file(dir / "design" / "design.json"));
     const std::string text = j.dump();
     // The material's values, in a "material" object or at the top level.
     const nlohmann::json& used = j["material"].is_object() ? j["material"] : j;
@@ -134,7 +128,7 @@ TEST(CliCalibrate, ThicknessRampAddsTheCurve) {
                "pla-paper", "--repeats", "2", "-o", (dir / "ramp.gcode").string()});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   // lambda1 = 0.45 + 1.2 h on 6-layer samples.
-  std::istringstream in(read_text(dir / "ramp.csv"));
+  std::istringstream in(testing::read_file(dir / "ramp.csv"));
   std::string filled;
   for (std::string line; std::getline(in, line);) {
     if (line.empty() || line[0] == '#' || line.rfind("sample,", 0) == 0) {
@@ -153,7 +147,7 @@ TEST(CliCalibrate, ThicknessRampAddsTheCurve) {
   const auto fit = run_cli({"calibrate", "fit", (dir / "ramp-measured.csv").string(), "-o",
                             (dir / "ramp-pla.json").string()});
   ASSERT_EQ(fit.exit_code, 0) << fit.err;
-  const nlohmann::json m = nlohmann::json::parse(read_text(dir / "ramp-pla.json"));
+  const nlohmann::json m = nlohmann::json::parse(testing::read_file(dir / "ramp-pla.json"));
   ASSERT_TRUE(m.contains("thickness_curve")) << m.dump(2);
   EXPECT_EQ(m["thickness_curve"]["min_layer_height"].get<double>(), 0.08);
   EXPECT_EQ(m["thickness_curve"]["max_layer_height"].get<double>(), 0.28);
@@ -168,7 +162,7 @@ TEST(CliCalibrate, BadMeasurementsGiveOneLineNamingLineAndColumn) {
                      "2", "-o", (dir / "c.gcode").string()})
                 .exit_code,
             0);
-  std::string sheet = fill(read_text(dir / "c.csv"));
+  std::string sheet = fill(testing::read_file(dir / "c.csv"));
   // Empty the width_after of the last row.
   const size_t last = sheet.rfind('\n', sheet.size() - 2) + 1;
   std::vector<std::string> c;

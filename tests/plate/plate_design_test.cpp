@@ -20,13 +20,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string read_text(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
 void write_text(const fs::path& path, const std::string& text) {
   std::ofstream(path, std::ios::binary) << text;
 }
@@ -96,21 +89,21 @@ TEST(PlateDesignFile, ReadsBackBitForBit) {
             *d.design_fields.find_vertex("theta2"));
   // Only what varies over a layer's faces is a PLY property; the stack's own properties are not
   // design fields.
-  const std::string stack = read_text(dir / "flat.stack.json");
+  const std::string stack = testing::read_file(dir / "flat.stack.json");
   EXPECT_NE(stack.find("\"layer_3_thickness\""), std::string::npos);
   EXPECT_EQ(stack.find("\"layer_1_thickness\""), std::string::npos);
   EXPECT_EQ(back.design.design_fields.find_face("layer_1_theta"), nullptr);
   // Same design, same bytes.
-  const std::string ply = read_text(dir / "flat.ply");
+  const std::string ply = testing::read_file(dir / "flat.ply");
   write_plate_design(dir / "flat.ply", back.design);
-  EXPECT_EQ(read_text(dir / "flat.ply"), ply);
-  EXPECT_EQ(read_text(dir / "flat.stack.json"), stack);
+  EXPECT_EQ(testing::read_file(dir / "flat.ply"), ply);
+  EXPECT_EQ(testing::read_file(dir / "flat.stack.json"), stack);
 }
 
 TEST(PlateDesignFile, AStackFileThatDoesNotMatchIsAClearError) {
   const fs::path dir = testing::scratch_dir();
   write_plate_design(dir / "flat.ply", two_material_design());
-  const std::string stack = read_text(dir / "flat.stack.json");
+  const std::string stack = testing::read_file(dir / "flat.stack.json");
   const auto expect_error = [&](const std::string& text, const std::string& words) {
     write_text(dir / "flat.stack.json", text);
     try {
@@ -190,7 +183,7 @@ TEST(PlateDesignCli, ToolpathsAndSimulateUseTheDesignedLayersAndMaterial) {
                         (dir / "print").string()});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("6 layers (0.48 mm printed) of pla-generic"), std::string::npos) << r.out;
-  const std::string gcode = read_text(dir / "print" / "plate.gcode");
+  const std::string gcode = testing::read_file(dir / "print" / "plate.gcode");
   int layer_changes = 0;
   for (size_t at = 0; (at = gcode.find(";LAYER_CHANGE", at)) != std::string::npos; ++at) {
     ++layer_changes;
@@ -211,7 +204,7 @@ TEST(PlateDesignCli, ToolpathsAndSimulateUseTheDesignedLayersAndMaterial) {
                         run + "/target.ply", "-o", (dir / "predicted.ply").string()});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("6 layers (0.48 mm printed) of pla-generic"), std::string::npos) << r.out;
-  const std::string design = read_text(run + "/design.json");
+  const std::string design = testing::read_file(run + "/design.json");
   const auto metric = [&](const std::string& key) {
     const size_t at = design.find("\"" + key + "\": ");
     return std::stod(design.substr(at + key.size() + 4));

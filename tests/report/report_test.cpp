@@ -1,5 +1,6 @@
-// The report module (src/report/) and the toolpath file it reads: the toolpath as data, the report page of a run folder, the
-// pictures and the view server. The browser acceptance test is report_browser_test.mjs.
+// The report module (src/report/) and the toolpath file it reads: the toolpath as data, the report
+// page of a run folder, the pictures and the view server. The browser acceptance test is
+// report_browser_test.mjs.
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -24,13 +25,6 @@ namespace flatmorph {
 namespace {
 
 using testing::run_cli;
-
-std::string read_text(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 PathPolyline polyline(std::initializer_list<Eigen::Vector3d> points) {
   PathPolyline p;
@@ -81,9 +75,9 @@ TEST(ToolpathFile, ReadsBackWhatTheGcodePrints) {
     }
   }
   // Same toolpath, same bytes.
-  const std::string text = read_text(path);
+  const std::string text = testing::read_file(path);
   write_toolpath_file(path, read.toolpath, read.summary);
-  EXPECT_EQ(read_text(path), text);
+  EXPECT_EQ(testing::read_file(path), text);
 }
 
 TEST(ToolpathFile, RefusesAnotherFile) {
@@ -161,7 +155,7 @@ TEST(ReportPage, IsSelfContainedDeterministicAndHoldsEverySection) {
   const auto dir = small_run();
   const auto r = run_cli({"report", dir.string()});
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  const std::string html = read_text(dir / "report.html");
+  const std::string html = testing::read_file(dir / "report.html");
   for (const char* name : {"plate_theta1.png", "predicted.png", "layers.png"}) {
     EXPECT_TRUE(std::filesystem::exists(dir / name)) << name;
   }
@@ -177,9 +171,9 @@ TEST(ReportPage, IsSelfContainedDeterministicAndHoldsEverySection) {
   // Same folder, same bytes.
   const RunFolder run = read_run_folder(dir);
   EXPECT_EQ(report_html(run), html);
-  const std::string png = read_text(dir / "predicted.png");
+  const std::string png = testing::read_file(dir / "predicted.png");
   write_report_pictures(run);
-  EXPECT_EQ(read_text(dir / "predicted.png"), png);
+  EXPECT_EQ(testing::read_file(dir / "predicted.png"), png);
   ASSERT_TRUE(run.print);
   EXPECT_EQ(run.print->toolpath.layers.size(), 4u);
 }

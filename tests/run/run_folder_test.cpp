@@ -19,13 +19,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string read_text(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
 // A small plate printed along x in 4 layers, with a made-up predicted shape.
 RunOutputs small_run() {
   const testing::TestPlate p = testing::rectangle_plate(20, 10, 6, 3);
@@ -57,7 +50,7 @@ TEST(RunFolder, TheSameRunGivesTheSameBytesAndAFailureLeavesTheFolderAsItWas) {
   std::vector<std::string> first;
   for (const std::string& name : names) {
     ASSERT_TRUE(fs::exists(dir / name)) << name;
-    first.push_back(read_text(dir / name));
+    first.push_back(testing::read_file(dir / name));
   }
   EXPECT_NE(first[4].find("\"metrics_list\""), std::string::npos);
   EXPECT_NE(first[4].find("\"flatmorph_version\""), std::string::npos);
@@ -65,13 +58,13 @@ TEST(RunFolder, TheSameRunGivesTheSameBytesAndAFailureLeavesTheFolderAsItWas) {
   EXPECT_EQ(first[5].find(".tmp"), std::string::npos);
   write_run_folder(dir, run, nullptr);
   for (size_t i = 0; i < names.size(); ++i)
-    EXPECT_EQ(read_text(dir / names[i]), first[i]) << names[i];
+    EXPECT_EQ(testing::read_file(dir / names[i]), first[i]) << names[i];
   // A run that fails while writing (a stack of another plate) leaves the earlier run whole.
   RunOutputs broken = run;
   broken.plate.stack.layers[2].theta.resize(3);
   EXPECT_THROW(write_run_folder(dir, broken, nullptr), UserError);
   for (size_t i = 0; i < names.size(); ++i)
-    EXPECT_EQ(read_text(dir / names[i]), first[i]) << names[i];
+    EXPECT_EQ(testing::read_file(dir / names[i]), first[i]) << names[i];
   for (const auto& entry : fs::directory_iterator(dir.parent_path())) {
     EXPECT_EQ(entry.path().filename(), "run") << "left behind: " << entry.path();
   }
@@ -85,7 +78,7 @@ TEST(RunFolder, AFolderOfOtherFilesIsRefusedBeforeAnyWork) {
   const auto r = testing::run_cli({"design", "--example", "dome", "-o", dir.string()});
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("new or empty folder"), std::string::npos) << r.err;
-  EXPECT_EQ(read_text(dir / "notes.txt"), "my notes\n");
+  EXPECT_EQ(testing::read_file(dir / "notes.txt"), "my notes\n");
   EXPECT_FALSE(fs::exists(dir / "design.json"));
 }
 
@@ -107,7 +100,7 @@ TEST(RunFolder, ARerunWithoutGcodeLeavesNoGcodeOfTheEarlierRun) {
   for (const char* name : {"plate.gcode", "toolpath.json", "layers", "layers.png"}) {
     EXPECT_FALSE(fs::exists(dir / name)) << name;
   }
-  EXPECT_NE(read_text(dir / "design.json").find("\"layers\": 6"), std::string::npos);
+  EXPECT_NE(testing::read_file(dir / "design.json").find("\"layers\": 6"), std::string::npos);
   EXPECT_TRUE(fs::exists(dir / "report.html"));
 }
 
