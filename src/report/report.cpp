@@ -186,6 +186,13 @@ Json metrics_json(const RunFolder& run) {
   if (run.flat) {
     shape.add("plate",
               fmt::format("{} vertices, {} faces", run.flat->plate.rows(), run.flat->F.rows()));
+    const LayerStack& stack = run.flat->stack;
+    double printed = 0;
+    for (const Layer& layer : stack.layers) printed += layer.printed_thickness.maxCoeff();
+    std::string materials;
+    for (const Material& m : stack.materials) materials += (materials.empty() ? "" : ", ") + m.name;
+    shape.add("printed layers (flat.stack.json)",
+              fmt::format("{} layers, {:.3g} mm, of {}", stack.num_layers(), printed, materials));
     if (const Eigen::VectorXd* theta2 = run.flat->design_fields.find_vertex("theta2");
         theta2 && theta2->size() > 0) {
       const double t = theta2->cwiseAbs().maxCoeff();

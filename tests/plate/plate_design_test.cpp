@@ -213,6 +213,11 @@ TEST(PlateDesignCli, ToolpathsAndSimulateUseTheDesignedLayersAndMaterial) {
   ASSERT_NE(at, std::string::npos);
   const double avg = std::stod(r.out.substr(at + 28));
   EXPECT_NEAR(avg, metric("dist_to_optim_avg_pct"), 0.001);
+  // The report says what the stack prints.
+  r = testing::run_cli({"report", run});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(testing::read_file(run + "/report.html").find("6 layers, 0.48 mm, of pla-generic"),
+            std::string::npos);
   // Options the stack file decides are refused, not silently ignored.
   r = testing::run_cli(
       {"simulate", run + "/flat.ply", "--layers", "10", "-o", (dir / "x.ply").string()});
