@@ -222,7 +222,10 @@ class Checker {
     } else if (n == "M17") {
       motors_off_ = false;
     } else if (n[0] == 'T' && is_classic(n)) {
-      tool_ = tool_number(std::strtod(n.c_str() + 1, nullptr));
+      const int next = tool_number(std::strtod(n.c_str() + 1, nullptr));
+      // A filament changer loads the next filament into the nozzle: none of it is retracted.
+      if (printer_.tool_change.shared_nozzle && next != tool_) retracted_[next] = 0;
+      tool_ = next;
       known_tool(tool_, "selects");
     }
   }
@@ -251,6 +254,9 @@ class Checker {
   }
 
   const Material& material(int tool) const { return materials_[static_cast<size_t>(tool)]; }
+
+  // The heater that warms `tool`'s filament: its own, or the one of a shared nozzle.
+  int heater(int tool) const { return printer_.tool_change.shared_nozzle ? 0 : tool; }
 
   // Tool numbers as the firmware would take them; absurd ones are clamped rather than trusted.
   static int tool_number(double value) {
@@ -281,7 +287,7 @@ class Checker {
       known_tool(tool, "heats");
       return;
     }
-    nozzle_[tool] = target;
+    nozzle_[heater(tool)] = target;
     // Turning a heater off needs no material.
     if (target <= 0 || !known_tool(tool, "heats")) return;
     const Material& m = material(tool);
@@ -380,14 +386,25 @@ class Checker {
   }
 
   void check_extrusion(double extruded, const std::optional<double>& length) {
-    const auto target = nozzle_.find(tool_);
-    if (known_tool(tool_, "extrudes with") && target != nozzle_.end() &&
-        target->second < material(tool_).min_nozzle_temperature) {
-      flag(ViolationKind::kColdExtrusion,
-           fmt::format("extrudes while the nozzle (T{}) is set to {:g} C, below {:g} C, the least "
-                       "the material {} needs",
-                       tool_, target->second, material(tool_).min_nozzle_temperature,
-                       material(tool_).name));
+    const auto target = nozzle_.find(heater(tool_));
+    if (known_tool(tool_, "extrudes with") && target != nozzle_.end()) {
+      const Material& m = material(tool_);
+      if (target->second < m.min_nozzle_temperature) {
+        flag(ViolationKind::kColdExtrusion,
+             fmt::format("extrudes while the nozzle (T{}) is set to {:g} C, below {:g} C, the "
+                         "least the material {} needs",
+                         tool_, target->second, m.min_nozzle_temperature, m.name));
+      }
+      // A shared nozzle keeps the temperature the previous filament was set to; said once per
+      // filament and temperature.
+      if (printer_.tool_change.shared_nozzle && target->second > m.max_nozzle_temperature &&
+          reported_hot_.insert({tool_, target->second}).second) {
+        flag(ViolationKind::kNozzleTemperature,
+             fmt::format("extrudes T{} through the shared nozzle set to {:g} C, above {:g} C, the "
+                         "most the material {} allows: set the nozzle to its temperature after "
+                         "the change",
+                         tool_, target->second, m.max_nozzle_temperature, m.name));
+      }
     }
     if (length && *length > kEpsilon) {
       const double area = extruded * std::numbers::pi * printer_.filament_diameter *
@@ -505,8 +522,9 @@ class Checker {
   // Filament pulled back and not yet pushed again (mm), per tool: each has its own filament.
   std::map<int, double> retracted_;
   int tool_ = 0;
-  std::set<int> reported_tools_;  // tools flagged as unknown or without a material
-  std::map<int, double> nozzle_;  // targets set so far, per tool
+  std::set<int> reported_tools_;                   // tools flagged as unknown or without a material
+  std::map<int, double> nozzle_;                   // targets set so far, per heater (heater())
+  std::set<std::pair<int, double>> reported_hot_;  // tools and temperatures flagged as too hot
   std::optional<double> bed_;
   bool moved_ = false;
   bool motors_off_ = false;

@@ -56,7 +56,9 @@ constexpr double kEBackwardsSlack = 1.0;
 
 // Every violation in `text`, in line order (at most `max_violations`). `tool_materials[t]` is the
 // material of tool t (T0 first, at least one): the check follows T commands and judges each tool's
-// temperatures and extrusion by its own material; the shared bed by the least of their maxima.
+// temperatures and extrusion by its own material; the shared bed by the least of their maxima. On
+// a shared nozzle (ToolChange::shared_nozzle) the tools have one heater: each tool's extrusion is
+// judged against the one target, which must lie within that tool's material's range.
 std::vector<GcodeViolation> check_gcode(std::string_view text, const PrinterProfile& printer,
                                         const std::vector<Material>& tool_materials,
                                         size_t max_violations = 1000);

@@ -28,6 +28,13 @@ constexpr double kEUnits = 1e5;
 constexpr double kFirstTravelLift = 1.0;
 // How far the end G-code's park position is above the print (mm): room to grab the plate.
 constexpr double kParkClearance = 20.0;
+// How far above everything printed the head crosses the print during a tool change (mm).
+constexpr double kToolChangeClearance = 2.0;
+// The prime pad's beads: wider than the nozzle, like a first layer, so that they stick.
+constexpr double kPrimeWidthInNozzles = 1.25;
+constexpr double kPrimeHeight = 0.2;  // mm
+// Gap kept between the print (skirt included) and the prime area, mm.
+constexpr double kPrimeClearance = 2.0;
 
 // Appends `units` / 10^decimals in fixed notation ("-12.500"), without going through printf: the
 // writer prints millions of numbers and the output must not depend on the locale.
@@ -54,6 +61,66 @@ std::string fixed(double value, int decimals) {
 
 double filament_area(const PrinterProfile& printer) {
   return std::numbers::pi * printer.filament_diameter * printer.filament_diameter / 4;
+}
+
+// Where the writer lays the primes of tool changes (ToolChange::prime_*): a serpentine of touching
+// beads filling the profile's prime area row by row along x, each prime going on where the last
+// one stopped. Bed coordinates, mm.
+struct PrimePad {
+  std::vector<Eigen::Vector2d> corners;
+  std::vector<double> arclength;  // at each corner
+  double bead_width = 0;
+  double bead_height = kPrimeHeight;
+  double capacity() const { return arclength.back(); }  // mm of bead
+
+  Eigen::Vector2d point(double s) const {
+    const size_t i = static_cast<size_t>(std::upper_bound(arclength.begin(), arclength.end(), s) -
+                                         arclength.begin());
+    if (i == 0) return corners.front();
+    if (i >= corners.size()) return corners.back();
+    const double t = (s - arclength[i - 1]) / (arclength[i] - arclength[i - 1]);
+    return corners[i - 1] + t * (corners[i] - corners[i - 1]);
+  }
+  // The corners strictly between s0 and s1, in the order met going from s0 to s1 (either way).
+  std::vector<Eigen::Vector2d> corners_between(double s0, double s1) const {
+    std::vector<Eigen::Vector2d> out;
+    for (size_t i = 0; i < corners.size(); ++i) {
+      if (arclength[i] > std::min(s0, s1) && arclength[i] < std::max(s0, s1)) {
+        out.push_back(corners[i]);
+      }
+    }
+    if (s1 < s0) std::reverse(out.begin(), out.end());
+    return out;
+  }
+};
+
+PrimePad prime_pad(const PrinterProfile& printer) {
+  const ToolChange& change = printer.tool_change;
+  PrimePad pad;
+  pad.bead_width = kPrimeWidthInNozzles * printer.nozzle_diameter;
+  const double w = pad.bead_width;
+  const double x0 = change.prime_area_min.x() + w / 2, x1 = change.prime_area_max.x() - w / 2;
+  const int rows = static_cast<int>(
+      std::floor((change.prime_area_max.y() - change.prime_area_min.y()) / w + 1e-9));
+  for (int r = 0; r < rows; ++r) {
+    const double y = change.prime_area_min.y() + w / 2 + r * w;
+    pad.corners.emplace_back(r % 2 == 0 ? x0 : x1, y);
+    pad.corners.emplace_back(r % 2 == 0 ? x1 : x0, y);
+  }
+  pad.arclength.push_back(0);
+  for (size_t i = 1; i < pad.corners.size(); ++i) {
+    pad.arclength.push_back(pad.arclength.back() + (pad.corners[i] - pad.corners[i - 1]).norm());
+  }
+  return pad;
+}
+
+// The temperature a shared nozzle flushes at when `from` gives way to `to`: the hotter of the two,
+// which clears the previous filament best, but no hotter than either allows. Needs overlapping
+// ranges (checked by make_gcode).
+double flush_temperature(const Material& from, const Material& to) {
+  const double lo = std::max(from.min_nozzle_temperature, to.min_nozzle_temperature);
+  const double hi = std::min(from.max_nozzle_temperature, to.max_nozzle_temperature);
+  return std::clamp(std::max(from.nozzle_temperature, to.nozzle_temperature), lo, hi);
 }
 
 // Checks what the writer relies on; a toolpath violating it is a bug of the code that made it,
@@ -177,10 +244,11 @@ std::string fan_command(GcodeFlavor flavor, double percent) {
 class Emitter {
  public:
   Emitter(const PrinterProfile& printer, const std::vector<Material>& tool_materials,
-          const Eigen::Vector2d& offset)
+          const Eigen::Vector2d& offset, std::optional<PrimePad> pad)
       : printer_(printer),
         materials_(tool_materials),
         offset_(offset),
+        pad_(std::move(pad)),
         extruded_(tool_materials.size(), 0.0),
         retracted_(static_cast<size_t>(printer.extruder_count), false) {}
 
@@ -246,13 +314,20 @@ class Emitter {
 
   // Goes on with `tool`, which starts printing at `start` (bed coordinates): the previous tool
   // retracts where it stands, then the profile's tool-change template parks it and brings the next
-  // one, whose fan setting then applies. The template may move the head anywhere, so its position
-  // counts as unknown until the next travel sets it (lifting first, as after the start G-code).
+  // one (or, on a shared nozzle, has the firmware swap the filament and flushes the old one out),
+  // whose fan setting then applies, and the next tool primes on the pad if the profile says so.
+  // The template may move the head anywhere, so its position counts as unknown until the next
+  // travel sets it (lifting first, as after the start G-code).
   void change_tool(int tool, const Eigen::Vector3d& start) {
     if (tool == tool_) return;
     retract();
+    const ToolChange& change = printer_.tool_change;
     const Material& from = materials_[static_cast<size_t>(tool_)];
     const Material& to = materials_[static_cast<size_t>(tool)];
+    // The length as written, so that the filament count is what the printer pushes.
+    const double flush_length =
+        change.shared_nozzle ? std::round(change.flush_volume / filament_area(printer_) * 100) / 100
+                             : 0.0;
     const std::vector<std::pair<std::string, std::string>> values = {
         {"previous_tool", std::to_string(tool_)},
         {"next_tool", std::to_string(tool)},
@@ -262,14 +337,25 @@ class Emitter {
         {"y", fixed(start.y(), 3)},
         {"z", fixed(start.z(), 3)},
         {"travel_feed_rate", std::to_string(std::lround(printer_.travel_speed * 60))},
+        {"safe_z", fixed(safe_z() / kXyzUnits, 3)},
+        {"flush_temperature", fmt::format("{:.0f}", flush_temperature(from, to))},
+        {"flush_length", fmt::format("{:.2f}", flush_length)},
+        {"retract_length", fmt::format("{:g}", printer_.retract_length)},
     };
     out_ += fmt::format(
-        "; ---- tool change T{} -> T{} (tool_change_gcode of the printer profile)\n", tool_, tool);
-    out_ += expand_gcode_template(printer_.tool_change_gcode, values,
-                                  fmt::format("printer {}: tool_change_gcode", printer_.name),
+        "; ---- tool change T{} -> T{} (tool_change.gcode of the printer profile)\n", tool_, tool);
+    out_ += expand_gcode_template(change.gcode, values,
+                                  fmt::format("printer {}: tool_change.gcode", printer_.name),
                                   tool_change_placeholders());
     if (!out_.empty() && out_.back() != '\n') out_ += '\n';
     tool_ = tool;
+    if (change.shared_nozzle) {
+      // The firmware loaded the next filament, the template flushed it and ended with a
+      // retraction (docs/gcode.md).
+      extruded_[static_cast<size_t>(tool)] += flush_length;
+      retracted_[static_cast<size_t>(tool)] =
+          printer_.firmware_retraction || printer_.retract_length > 0;
+    }
     // The template's own E moves (a prime) say nothing about the print's E register. It restarts
     // at 0 with the filament of the next tool where that tool left it: E moves retract, so a tool
     // parked retracted stands one retraction below its unretracted register.
@@ -283,6 +369,7 @@ class Emitter {
     feed_ = -1;  // the template may have set its own F
     // Said at every change: on tool changers each tool may have its own part-cooling fan.
     line(fan_command(printer_.flavor, first_of_section_ ? to.first_layer_fan_speed : to.fan_speed));
+    if (pad_) prime(to);
   }
 
   void retract() {
@@ -322,6 +409,60 @@ class Emitter {
   }
 
  private:
+  // Above everything printed so far, where the head may cross the print (mm / 1000).
+  int safe_z() const {
+    return std::min(printed_top_ + lift_units(kToolChangeClearance),
+                    lift_units(printer_.max_height));
+  }
+
+  // Lays the next tool's prime (`material` is its) on the pad where the last prime stopped, then
+  // wipes the nozzle back along the bead and retracts: reached from above the print, left for the
+  // next travel.
+  void prime(const Material& material) {
+    const PrimePad& pad = *pad_;
+    const ToolChange& change = printer_.tool_change;
+    const double begin = prime_used_;
+    const double end = begin + change.prime_volume / (pad.bead_width * pad.bead_height);
+    if (end > pad.capacity() + 1e-9) {
+      throw std::logic_error("make_gcode: the prime pad is full although its capacity was checked");
+    }
+    const int lift = safe_z();
+    if (!known_ || pos_.z() < lift) move_z(lift);
+    const Eigen::Vector2d first = pad.point(begin);
+    move_xy(to_units(Eigen::Vector3d(first.x(), first.y(), 0)).head<2>(), printer_.travel_speed);
+    move_z(lift_units(pad.bead_height));
+    unretract();
+    out_ += ";TYPE:Wipe tower\n;WIDTH:";
+    width_ = std::llround(pad.bead_width * kXyzUnits);
+    append_fixed(out_, width_, 3);
+    out_ += "\n;HEIGHT:";
+    height_ = std::llround(pad.bead_height * kXyzUnits);
+    append_fixed(out_, height_, 3);
+    out_ += '\n';
+    type_.reset();  // the print's next path says its type again
+    const double speed =
+        material.first_layer_speed > 0 ? material.first_layer_speed : printer_.first_layer_speed;
+    const double per_mm = pad.bead_width * pad.bead_height / filament_area(printer_);
+    Eigen::Vector2d at = first;
+    std::vector<Eigen::Vector2d> points = pad.corners_between(begin, end);
+    points.push_back(pad.point(end));
+    for (const Eigen::Vector2d& p : points) {
+      extrude_to(Eigen::Vector3d(p.x(), p.y(), pad.bead_height), (p - at).norm() * per_mm, tool_,
+                 speed);
+      at = p;
+    }
+    prime_used_ = end;
+    const double wiped = std::max(begin, end - change.wipe_length);
+    if (wiped < end) {
+      std::vector<Eigen::Vector2d> wipe = pad.corners_between(end, wiped);
+      wipe.push_back(pad.point(wiped));
+      for (const Eigen::Vector2d& p : wipe) {
+        move_xy(to_units(Eigen::Vector3d(p.x(), p.y(), 0)).head<2>(), printer_.travel_speed);
+      }
+    }
+    retract();
+  }
+
   Eigen::Vector3d point(const PathPolyline& path, size_t i) const {
     return {path.points(i, 0) + offset_.x(), path.points(i, 1) + offset_.y(), path.points(i, 2)};
   }
@@ -439,6 +580,7 @@ class Emitter {
     motions_.push_back({(target - pos_).cast<double>() / kXyzUnits, delta / kEUnits, feed_speed()});
     e_units_ = e_target;
     pos_ = target;
+    printed_top_ = std::max(printed_top_, target.z());
   }
 
   void e_move(long long delta, double speed, std::string_view comment) {
@@ -463,6 +605,9 @@ class Emitter {
   const PrinterProfile& printer_;
   const std::vector<Material>& materials_;  // per tool
   Eigen::Vector2d offset_;
+  std::optional<PrimePad> pad_;  // where tool changes prime, if the profile says
+  double prime_used_ = 0;        // mm of the pad's serpentine laid so far
+  int printed_top_ = 0;          // highest extrusion so far, mm / 1000
   std::string out_;
   std::vector<Motion> motions_;
   Eigen::Vector3i pos_ = Eigen::Vector3i::Zero();  // mm / 1000
@@ -660,10 +805,19 @@ std::string header(const PrinterProfile& printer, const std::vector<Material>& t
                       ? fmt::format("jerk {:g} mm/s", printer.jerk)
                       : fmt::format("junction deviation {:g} mm", printer.junction_deviation)));
   if (!one) {
+    const ToolChange& change = printer.tool_change;
+    std::string how =
+        change.shared_nozzle
+            ? fmt::format("one shared nozzle, {:g} mm^3 flushed at each", change.flush_volume)
+            : "a nozzle per tool, all used stay at their temperature until the end";
+    if (change.prime_volume > 0) {
+      how += fmt::format("; {:g} mm^3 primed on the bed at each, wiped {:g} mm",
+                         change.prime_volume, change.wipe_length);
+    }
     add(
-        fmt::format("tool_changes = {} (tool_change_gcode of the printer profile; all tools used "
-                    "stay at their temperature until the end)",
-                    result.tool_changes));
+        fmt::format("tool_changes = {} (tool_change.gcode of the printer profile; {}; their time "
+                    "is not in the estimate)",
+                    result.tool_changes, how));
   }
   for (size_t t = 0; t < tool_materials.size(); ++t) {
     // One material: the keys as they always were; several: each key says its tool ("T1 material").
@@ -776,6 +930,87 @@ std::vector<PathPolyline> skirt_loops(const Toolpath& toolpath, int loops, doubl
   return result;
 }
 
+// How many times the print changes tool: from T0 (where the start G-code leaves the firmware) to
+// the first tool, then wherever consecutive extruding segments change tool.
+int count_tool_changes(const Toolpath& toolpath, int first_tool) {
+  int changes = 0, tool = 0;
+  auto at = [&](int next) {
+    if (next != tool) ++changes;
+    tool = next;
+  };
+  at(first_tool);  // the skirt is printed by the first tool
+  for (const ToolpathLayer& layer : toolpath.layers) {
+    for (const PathPolyline& path : layer.paths) {
+      for (const SegmentStyle& s : path.segments) {
+        if (!s.travel) at(s.tool);
+      }
+    }
+  }
+  return changes;
+}
+
+// What the printer's tool changes need of this print: on a shared nozzle, a temperature every pair
+// of the materials takes; with a prime pad, room on it for every change and a pad clear of the
+// print. Returns the pad when the profile primes.
+std::optional<PrimePad> validate_tool_changes(const Toolpath& toolpath,
+                                              const PrinterProfile& printer,
+                                              const std::vector<Material>& tool_materials,
+                                              const std::set<int>& tools, int first_tool,
+                                              const Placement& placement) {
+  const ToolChange& change = printer.tool_change;
+  if (printer.extruder_count < 2) return std::nullopt;
+  if (change.shared_nozzle) {
+    for (int a : tools) {
+      for (int b : tools) {
+        const Material& ma = tool_materials[static_cast<size_t>(a)];
+        const Material& mb = tool_materials[static_cast<size_t>(b)];
+        if (a < b && std::max(ma.min_nozzle_temperature, mb.min_nozzle_temperature) >
+                         std::min(ma.max_nozzle_temperature, mb.max_nozzle_temperature)) {
+          throw UserError(
+              ErrorCategory::kOption,
+              fmt::format("T{} ({}, {:g}..{:g} C) and T{} ({}, {:g}..{:g} C) share the one nozzle "
+                          "of {}, but no temperature suits both for the flush between them: "
+                          "print them on a printer with a nozzle per tool, or choose materials "
+                          "whose ranges overlap",
+                          a, ma.name, ma.min_nozzle_temperature, ma.max_nozzle_temperature, b,
+                          mb.name, mb.min_nozzle_temperature, mb.max_nozzle_temperature,
+                          printer.name));
+        }
+      }
+    }
+  }
+  if (change.prime_volume <= 0) return std::nullopt;
+  const int changes = count_tool_changes(toolpath, first_tool);
+  if (changes == 0) return std::nullopt;
+  PrimePad pad = prime_pad(printer);
+  const double per_prime = change.prime_volume / (pad.bead_width * pad.bead_height);
+  const std::string area =
+      fmt::format("x [{:g}, {:g}], y [{:g}, {:g}]", change.prime_area_min.x(),
+                  change.prime_area_max.x(), change.prime_area_min.y(), change.prime_area_max.y());
+  if (changes * per_prime > pad.capacity() + 1e-9) {
+    throw UserError(
+        ErrorCategory::kInfeasible,
+        fmt::format("the print changes tools {} times and primes {:g} mm^3 at each, but "
+                    "the prime area of {} ({}) holds {} primes: print with fewer "
+                    "changes of material, or give a copy of the profile a larger "
+                    "tool_change.prime.area or a smaller volume",
+                    changes, change.prime_volume, printer.name, area,
+                    static_cast<int>(std::floor(pad.capacity() / per_prime))));
+  }
+  const Eigen::Vector2d lo = placement.min.array() - kPrimeClearance;
+  const Eigen::Vector2d hi = placement.max.array() + kPrimeClearance;
+  if ((lo.array() < change.prime_area_max.array()).all() &&
+      (hi.array() > change.prime_area_min.array()).all()) {
+    throw UserError(ErrorCategory::kInfeasible,
+                    fmt::format("the print spans x [{:.1f}, {:.1f}], y [{:.1f}, {:.1f}] on the bed "
+                                "and comes within {:g} mm of the prime area of {} ({}) where tool "
+                                "changes prime: place it elsewhere with --at X,Y",
+                                placement.min.x(), placement.max.x(), placement.min.y(),
+                                placement.max.y(), kPrimeClearance, printer.name, area));
+  }
+  return pad;
+}
+
 GcodeResult make_gcode(const Toolpath& toolpath, const PrinterProfile& printer,
                        const std::vector<Material>& tool_materials, const GcodeOptions& options) {
   if (tool_materials.empty()) {
@@ -856,12 +1091,15 @@ GcodeResult make_gcode(const Toolpath& toolpath, const PrinterProfile& printer,
                                 highest, printer.name, printer.max_height));
   }
 
+  const std::optional<PrimePad> pad =
+      validate_tool_changes(toolpath, printer, tool_materials, tools, first_tool, placement);
+
   GcodeResult result;
   result.plate_to_bed = placement.offset;
   result.print_min = placement.min;
   result.print_max = placement.max;
 
-  Emitter emit(printer, tool_materials, placement.offset);
+  Emitter emit(printer, tool_materials, placement.offset, pad);
   auto material_of = [&](int tool) -> const Material& {
     return tool_materials[static_cast<size_t>(tool)];
   };
@@ -873,19 +1111,21 @@ GcodeResult make_gcode(const Toolpath& toolpath, const PrinterProfile& printer,
   // The start G-code heated T0 (the firmware's tool after it) to T0's material. Every other tool
   // the print uses is heated now, all at once, and stays at its temperature until the end: tools
   // alternate often in a plate, and cooling each between its turns would cost a reheat every time.
+  // A shared nozzle has one heater, which each tool change sets.
+  const bool own_heaters = printer.extruder_count > 1 && !printer.tool_change.shared_nozzle;
   for (int tool : tools) {
-    if (tool > 0) {
+    if (tool > 0 && own_heaters) {
       emit.line(fmt::format("M104 T{} S{:.0f} ; heat tool {} ({})", tool,
                             material_of(tool).nozzle_temperature, tool, material_of(tool).name));
     }
   }
   for (int tool : tools) {
-    if (tool > 0) {
+    if (tool > 0 && own_heaters) {
       emit.line(fmt::format("M109 T{} S{:.0f} ; wait for tool {}", tool,
                             material_of(tool).nozzle_temperature, tool));
     }
   }
-  if (printer.extruder_count > 1 && !tools.count(0)) {
+  if (own_heaters && !tools.count(0)) {
     emit.line("M104 T0 S0 ; the print does not use tool 0");
   }
   emit.line(fan_command(printer.flavor, material_of(emit.tool()).first_layer_fan_speed));
@@ -940,7 +1180,7 @@ GcodeResult make_gcode(const Toolpath& toolpath, const PrinterProfile& printer,
       emit.retract();
       emit.line("M107 ; fan off");
       // The end G-code's M104 S0 reaches the active tool only.
-      if (printer.extruder_count > 1) {
+      if (own_heaters) {
         for (int tool : tools)
           emit.line(fmt::format("M104 T{} S0 ; tool {} heater off", tool, tool));
       }

@@ -67,12 +67,12 @@ struct GcodeResult {
 
 // The G-code of `toolpath` for `printer`, printing each tool's segments (SegmentStyle::tool) with
 // `tool_materials[tool]`: its temperature, speeds, fan and density. Wherever the print goes on
-// with another tool, the profile's tool_change_gcode runs. One material: `{material}`. The result
-// has passed check_gcode (a violation is a bug of the writer or the profile: std::logic_error).
-// Throws UserError: kInfeasible when the plate does not fit the bed or the printer's height, or
-// needs a tool the printer lacks; kOption when a tool the toolpath uses has no material, when
-// there are more materials than the printer has tools, or when T0's bed temperature is too hot
-// for another material.
+// with another tool, the profile's tool change runs (ToolChange). One material: `{material}`. The
+// result has passed check_gcode (a violation is a bug of the writer or the profile:
+// std::logic_error). Throws UserError: kInfeasible when the plate does not fit the bed or the
+// printer's height, or needs a tool the printer lacks; kOption when a tool the toolpath uses has no
+// material, when there are more materials than the printer has tools, or when T0's bed temperature
+// is too hot for another material.
 GcodeResult make_gcode(const Toolpath& toolpath, const PrinterProfile& printer,
                        const std::vector<Material>& tool_materials,
                        const GcodeOptions& options = {});

@@ -198,6 +198,69 @@ bool template_has(const std::string& text, const std::vector<std::string>& comma
   return false;
 }
 
+// The "tool_change" object; `p` has its bed and extruders read.
+ToolChange parse_tool_change(ObjectReader r, const PrinterProfile& p, const std::string& source) {
+  ToolChange t;
+  t.gcode = r.lines("gcode", "park, select with T{next_tool}, heat; an array of lines");
+  t.shared_nozzle = r.has("shared_nozzle") && r.boolean("shared_nozzle",
+                                                        "true when the tools are filament slots "
+                                                        "feeding one nozzle (AMS, MMU)");
+  if (t.shared_nozzle) {
+    t.flush_volume = r.number("flush_volume",
+                              "mm^3 of the next filament pushed through the shared nozzle to "
+                              "clear the previous one, e.g. 140",
+                              1, 5000);
+  } else if (r.has("flush_volume")) {
+    fail(source,
+         "tool_change.flush_volume applies to a shared nozzle only (\"shared_nozzle\": "
+         "true); each of these tools has its own nozzle: remove it");
+  }
+  if (r.has("prime")) {
+    ObjectReader prime = r.object("prime", "volume, area, wipe");
+    t.prime_volume = prime.number("volume", "mm^3 laid on the bed after each change", 0.1, 1000);
+    ObjectReader area = prime.object("area", "{\"x\": [min, max], \"y\": [min, max]} in mm");
+    const Eigen::Vector2d x = area.pair("x", "[min, max] in mm", -10000, 10000);
+    const Eigen::Vector2d y = area.pair("y", "[min, max] in mm", -10000, 10000);
+    area.reject_unknown();
+    t.wipe_length = prime.number("wipe", "mm the nozzle moves back along the bead", 0, 100);
+    prime.reject_unknown();
+    t.prime_area_min = {x[0], y[0]};
+    t.prime_area_max = {x[1], y[1]};
+    const Eigen::Vector2d size = t.prime_area_max - t.prime_area_min;
+    if (size.minCoeff() < 2 * p.nozzle_diameter) {
+      fail(source, fmt::format("tool_change.prime.area is {:g} x {:g} mm; it needs at least two "
+                               "nozzle widths each way: give [min, max] with min < max",
+                               size.x(), size.y()));
+    }
+    if ((t.prime_area_min.array() < p.axis_min.array() - 1e-9).any() ||
+        (t.prime_area_max.array() > p.axis_max.array() + 1e-9).any()) {
+      fail(source, fmt::format("tool_change.prime.area x [{:g}, {:g}], y [{:g}, {:g}] leaves the "
+                               "reachable area x [{:g}, {:g}], y [{:g}, {:g}]: move it onto the "
+                               "bed",
+                               t.prime_area_min.x(), t.prime_area_max.x(), t.prime_area_min.y(),
+                               t.prime_area_max.y(), p.axis_min.x(), p.axis_max.x(), p.axis_min.y(),
+                               p.axis_max.y()));
+    }
+  }
+  r.reject_unknown();
+  const std::string where = source + ": tool_change.gcode";
+  expand_gcode_template(t.gcode, {}, where, tool_change_placeholders());
+  // The writer and the check follow the active tool through T commands: the template must say
+  // which tool comes next, and only that one.
+  if (!template_has(t.gcode, {"T{NEXT_TOOL}"}, 0)) {
+    fail(source,
+         "tool_change.gcode never selects the next tool: add a line \"T{next_tool}\" (with the "
+         "firmware's parameters, if any)");
+  }
+  if (t.shared_nozzle && t.gcode.find("{flush_length}") == std::string::npos) {
+    fail(source,
+         "tool_change.gcode of a shared nozzle never uses {flush_length}, so the previous "
+         "filament would stay in the nozzle: flush with a line such as \"G1 E{flush_length} "
+         "F300\" where the purge goes (a chute, a wiper)");
+  }
+  return t;
+}
+
 PrinterProfile parse_printer_json(const json& root, const std::string& source) {
   PrinterProfile p;
   ObjectReader r(root, "", source);
@@ -313,17 +376,17 @@ PrinterProfile parse_printer_json(const json& root, const std::string& source) {
 
   p.start_gcode = r.lines("start_gcode", "heat, home, level, purge; an array of lines");
   p.end_gcode = r.lines("end_gcode", "lift, park, heaters and motors off; an array of lines");
-  if (r.has("tool_change_gcode")) {
+  if (r.has("tool_change")) {
     if (p.extruder_count < 2) {
       fail(source,
-           "tool_change_gcode applies to printers with more than one tool; set \"extruders\" "
-           "or remove it");
+           "tool_change applies to printers with more than one tool; set \"extruders\" or "
+           "remove it");
     }
-    p.tool_change_gcode = r.lines("tool_change_gcode",
-                                  "park, select with T{next_tool}, heat, prime; an array of lines");
+    p.tool_change = parse_tool_change(
+        r.object("tool_change", "gcode, shared_nozzle, flush_volume, prime"), p, source);
   } else if (p.extruder_count > 1) {
-    fail(source, fmt::format("a printer with {} extruders needs \"tool_change_gcode\" (at least "
-                             "[\"T{{next_tool}}\"]); see docs/gcode.md",
+    fail(source, fmt::format("a printer with {} extruders needs \"tool_change\" (at least "
+                             "{{\"gcode\": [\"T{{next_tool}}\"]}}); see docs/gcode.md",
                              p.extruder_count));
   }
   r.reject_unknown();
@@ -331,15 +394,6 @@ PrinterProfile parse_printer_json(const json& root, const std::string& source) {
   // Templates are checked now, not when a first print is written.
   expand_gcode_template(p.start_gcode, {}, source + ": start_gcode");
   expand_gcode_template(p.end_gcode, {}, source + ": end_gcode");
-  expand_gcode_template(p.tool_change_gcode, {}, source + ": tool_change_gcode",
-                        tool_change_placeholders());
-  // The writer and the check follow the active tool through T commands: the template must say
-  // which tool comes next, and only that one.
-  if (p.extruder_count > 1 && !template_has(p.tool_change_gcode, {"T{NEXT_TOOL}"}, 0)) {
-    fail(source,
-         "tool_change_gcode never selects the next tool: add a line \"T{next_tool}\" (with the "
-         "firmware's parameters, if any)");
-  }
   for (const char* needed : {"{nozzle_temperature}", "{bed_temperature}"}) {
     if (p.start_gcode.find(needed) == std::string::npos) {
       fail(source, fmt::format("start_gcode never uses {}, so the material's temperature would be "
@@ -484,6 +538,17 @@ const std::vector<GcodePlaceholder>& tool_change_placeholders() {
       {"y", "where the next tool starts printing, bed coordinates, mm"},
       {"z", "height of the layer the next tool prints, mm"},
       {"travel_feed_rate", "travel speed, mm/min (for F)"},
+      {"safe_z",
+       "2 mm above everything printed so far, at most max_height: where to cross the "
+       "print"},
+      {"flush_temperature",
+       "degrees C both materials take: the higher of the two, at most the lower maximum (the "
+       "flush of a shared nozzle)"},
+      {"flush_length",
+       "mm of the next filament that flush_volume takes (0 with a nozzle per tool)"},
+      {"retract_length",
+       "the profile's retraction, mm: a shared nozzle's template ends its flush "
+       "with this retraction"},
   };
   return kPlaceholders;
 }

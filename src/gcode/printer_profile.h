@@ -22,6 +22,26 @@ enum class CorneringModel {
   kJerk,               // classic jerk: the largest instantaneous speed change per axis
 };
 
+// A change of tool, as the printer makes it. Volumes in mm^3, lengths in mm (bed coordinates).
+struct ToolChange {
+  // The template (tool_change_placeholders()): parks the previous tool and selects the next with a
+  // line "T{next_tool} ...", waits for its temperature; on a shared nozzle, the firmware's own
+  // change (Bambu's M620/M621, an MMU's T<n>) and the flush of the old filament.
+  std::string gcode;
+  // The tools are filament slots feeding one nozzle with one heater (Bambu AMS, Prusa MMU): the
+  // nozzle takes each tool's temperature in turn, and each change pushes `flush_volume` of the
+  // next filament through it ({flush_length} in the template) to clear the previous one.
+  bool shared_nozzle = false;
+  double flush_volume = 0;
+  // After the template, the writer primes the next tool on the bed by laying `prime_volume`
+  // (0: no prime) as a pad in the rectangle [prime_area_min, prime_area_max] (successive primes go
+  // on where the last one stopped), then wipes the nozzle `wipe_length` back along the bead.
+  double prime_volume = 0;
+  Eigen::Vector2d prime_area_min{0, 0};
+  Eigen::Vector2d prime_area_max{0, 0};
+  double wipe_length = 0;
+};
+
 struct PrinterProfile {
   std::string name;
   std::string description;
@@ -40,8 +60,8 @@ struct PrinterProfile {
 
   double nozzle_diameter = 0.4;     // mm
   double filament_diameter = 1.75;  // mm
-  // Independent nozzles, each with its own heater and filament (IDEX, tool changers), selected
-  // with T0, T1, ...; a single nozzle fed by a filament changer (AMS, MMU) is one extruder here.
+  // Tools selected with T0, T1, ...: independent nozzles, each with its own heater and filament
+  // (IDEX, tool changers), or filament slots feeding one nozzle (AMS, MMU: see ToolChange).
   int extruder_count = 1;
   bool relative_e = false;  // M83 (relative) rather than M82 (absolute) extrusion distances
 
@@ -66,10 +86,8 @@ struct PrinterProfile {
   // Templates with {placeholders} (gcode_placeholders()); lines separated by '\n'.
   std::string start_gcode;
   std::string end_gcode;
-  // Run wherever the print goes on with another tool (tool_change_placeholders()): parks the
-  // previous tool, selects the next (a line "T{next_tool} ..."), waits for its temperature, primes
-  // or wipes. Required when extruder_count > 1, refused otherwise.
-  std::string tool_change_gcode;
+  // What happens wherever the print goes on with another tool; used when extruder_count > 1.
+  ToolChange tool_change;
 };
 
 // Presets in a fixed order (alphabetical).
@@ -102,8 +120,8 @@ struct GcodePlaceholder {
 };
 // Those of the start and end templates.
 const std::vector<GcodePlaceholder>& gcode_placeholders();
-// Those of the tool-change template (tool numbers, the next tool's temperature and where it
-// starts).
+// Those of the tool-change template (tool numbers, temperatures, the flush, where the next tool
+// starts and the height above the print).
 const std::vector<GcodePlaceholder>& tool_change_placeholders();
 
 // Replaces every {name} in `text` by values[name] ("{{" and "}}" stand for braces). Throws

@@ -36,6 +36,7 @@ ReadGcode read_gcode(const std::string& text, double cx, double cy) {
   bool relative_xyz = false, m83 = false, declared = false, extruded = false;
   std::map<int, double> retracted;  // per tool: each has its own filament
   std::map<int, double> nozzle;
+  double last_target = -1;
   int tool = 0;
   size_t extrusions = 0;  // in layers, so far
   double feed = -1;
@@ -131,7 +132,8 @@ ReadGcode read_gcode(const std::string& text, double cx, double cy) {
       }
       const auto target = nozzle.find(tool);
       r.layers.back().extrusions.push_back({ox, oy, x, y, z, de, type, width, height, tool,
-                                            target == nozzle.end() ? -1 : target->second, feed});
+                                            target == nozzle.end() ? -1 : target->second,
+                                            last_target, feed});
       ++extrusions;
     } else if (c == "G90") {
       relative_xyz = false;
@@ -156,6 +158,7 @@ ReadGcode read_gcode(const std::string& text, double cx, double cy) {
       if (!std::isnan(t)) {
         const int target_tool = std::isnan(which) ? tool : static_cast<int>(which);
         nozzle[target_tool] = t;
+        last_target = t;
         r.nozzle_targets.push_back(t);
         r.tool_nozzle_targets[target_tool].push_back(t);
       }

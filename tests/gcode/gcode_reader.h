@@ -19,7 +19,9 @@ struct ReadExtrusion {
   double height;             // the ;HEIGHT: in effect (0 if none)
   int tool;                  // the tool selected by the last T command (0 before any)
   double nozzle_target;      // that tool's last M104/M109 target (-1 if none)
-  double feed;               // the F in effect, mm/min (-1 if none)
+  // The last M104/M109 target given to any tool: what a nozzle shared by all tools is set to.
+  double heater_target;
+  double feed;  // the F in effect, mm/min (-1 if none)
 };
 
 // A T command that selects another tool than the one in use.

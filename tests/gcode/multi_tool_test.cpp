@@ -1,8 +1,8 @@
 // Prints with several tools, one material each (PLA and TPU on a two-tool Prusa XL): the
 // independent reader of gcode_reader.cpp sees each tool at its own material's temperature and
 // speed, a tool change exactly where the toolpath changes tool, the profile's tool-change template
-// at each, and per-tool filament matching the toolpath; the check judges each tool by its own
-// material.
+// and a prime on the pad at each, and per-tool filament matching the toolpath; the check judges
+// each tool by its own material. Primes and shared nozzles in detail: tool_change_test.cpp.
 #include <fmt/core.h>
 #include <gtest/gtest.h>
 
@@ -112,7 +112,7 @@ TEST_P(TwoTools, PrintIsTheToolpathToolByTool) {
   for (const auto& layer : read.layers) {
     for (const auto& e : layer.extrusions) {
       all.push_back(e);
-      if (e.type != "Skirt/Brim") plate.push_back(e);
+      if (e.type != "Skirt/Brim" && e.type != "Wipe tower") plate.push_back(e);
     }
   }
   ASSERT_EQ(plate.size(), expected.size());
@@ -126,11 +126,13 @@ TEST_P(TwoTools, PrintIsTheToolpathToolByTool) {
     volume[static_cast<size_t>(e.tool)] += expected[i].volume;
     read_volume[static_cast<size_t>(e.tool)] += e.filament * area;
   }
+  std::vector<double> primed(2, 0.0);
   for (const auto& e : all) {
     read_filament[static_cast<size_t>(e.tool)] += e.filament;
     if (e.type == "Skirt/Brim") {
       EXPECT_EQ(e.tool, 0);  // the skirt primes the first tool
     }
+    if (e.type == "Wipe tower") primed[static_cast<size_t>(e.tool)] += e.filament * area;
   }
   // Per-tool totals: the toolpath's volumes, and the result's lengths and masses.
   ASSERT_EQ(result.tool_filament_length.size(), 2u);
@@ -167,7 +169,7 @@ TEST_P(TwoTools, PrintIsTheToolpathToolByTool) {
     EXPECT_EQ(got.to, changes[c].to);
     EXPECT_EQ(got.extrusions_before, changes[c].extrusions_before);
     // The template around it: park, wait for the next tool at its material's temperature, pick it
-    // up (the T line), move over the next tool's first extrusion; then that tool's fan.
+    // up (the T line); then that tool's fan and its prime on the pad.
     const auto& lines = read.lines;
     const size_t t_line = static_cast<size_t>(got.line) - 1;
     ASSERT_GE(t_line, 2u);
@@ -179,10 +181,7 @@ TEST_P(TwoTools, PrintIsTheToolpathToolByTool) {
         0u)
         << lines[t_line - 1];
     EXPECT_EQ(lines[t_line].rfind(fmt::format("T{} S1 L0 D0", got.to), 0), 0u) << lines[t_line];
-    const testing::ReadExtrusion& next = all[got.extrusions_before];
-    EXPECT_EQ(lines[t_line + 1].rfind(fmt::format("G0 X{:.3f} Y{:.3f} F15000", next.x0, next.y0)),
-              0u)
-        << lines[t_line + 1];
+    EXPECT_EQ(all[got.extrusions_before].type, "Wipe tower") << "change " << c;
     const bool first_layer = got.extrusions_before < read.layers[0].extrusions.size();
     const std::string fan = fan_line(materials[static_cast<size_t>(got.to)], first_layer);
     bool fan_seen = false;
@@ -195,6 +194,13 @@ TEST_P(TwoTools, PrintIsTheToolpathToolByTool) {
       std::count_if(read.lines.begin(), read.lines.end(),
                     [](const std::string& l) { return l.rfind("P0 S1 L2 D0 ; park T", 0) == 0; }),
       static_cast<long>(changes.size()));
+  // The profile's 6 mm^3 for each change into a tool (the first, T0 -> T0, is none).
+  for (size_t t = 0; t < 2; ++t) {
+    const long into = std::count_if(changes.begin(), changes.end(),
+                                    [&](const auto& c) { return c.to == static_cast<int>(t); });
+    EXPECT_NEAR(primed[t], 6.0 * static_cast<double>(into), 0.01 * static_cast<double>(into))
+        << "T" << t;
+  }
 
   // Both tools heated before printing and off at the end.
   EXPECT_EQ(read.tool_nozzle_targets.at(1).front(), 225);
@@ -297,7 +303,9 @@ TEST(MultiTool, ProfilesStateTheirToolChange) {
   EXPECT_EQ(xl.extruder_count, 2);
   EXPECT_EQ(xl.bed_size, Eigen::Vector2d(360, 360));
   EXPECT_EQ(xl.max_height, 360);
-  EXPECT_NE(xl.tool_change_gcode.find("T{next_tool} S1 L0 D0"), std::string::npos);
+  EXPECT_NE(xl.tool_change.gcode.find("T{next_tool} S1 L0 D0"), std::string::npos);
+  EXPECT_FALSE(xl.tool_change.shared_nozzle);
+  EXPECT_EQ(xl.tool_change.prime_volume, 6);
   // The XL preset with one key changed.
   std::string text;
   {
@@ -313,19 +321,17 @@ TEST(MultiTool, ProfilesStateTheirToolChange) {
   };
   EXPECT_EQ(error(text), "accepted");
   EXPECT_NE(error(with("\"extruders\": 2,", ""))
-                .find("tool_change_gcode applies to printers with "
-                      "more than one tool"),
+                .find("tool_change applies to printers with more than one tool"),
             std::string::npos);
-  EXPECT_NE(
-      error(with("\"tool_change_gcode\"", "\"tool_change\"")).find("needs \"tool_change_gcode\""),
-      std::string::npos);
+  EXPECT_NE(error(with("\"tool_change\"", "\"tool_changes\"")).find("\"tool_change\""),
+            std::string::npos);
   EXPECT_NE(error(with("\"T{next_tool} S1 L0 D0", "\"M117 T{next_tool}"))
                 .find("never selects the next tool"),
             std::string::npos);
   EXPECT_NE(error(with("M140 S{bed_temperature} ;", "M140 S{bed_temperature} T{next_tool} ;"))
                 .find("unknown placeholder {next_tool}"),
             std::string::npos);
-  EXPECT_NE(error(with("{travel_feed_rate} ;", "{bed_size_x} ;")).find("unknown placeholder"),
+  EXPECT_NE(error(with("S{next_temperature}", "S{bed_size_x}")).find("unknown placeholder"),
             std::string::npos);
 }
 
