@@ -14,6 +14,7 @@
 #include "common/error.h"
 #include "gcode/estimate.h"
 #include "gcode/gcode_check.h"
+#include "gcode/tool_change.h"
 
 namespace flatmorph {
 namespace {
@@ -30,11 +31,6 @@ constexpr double kFirstTravelLift = 1.0;
 constexpr double kParkClearance = 20.0;
 // How far above everything printed the head crosses the print during a tool change (mm).
 constexpr double kToolChangeClearance = 2.0;
-// The prime pad's beads: wider than the nozzle, like a first layer, so that they stick.
-constexpr double kPrimeWidthInNozzles = 1.25;
-constexpr double kPrimeHeight = 0.2;  // mm
-// Gap kept between the print (skirt included) and the prime area, mm.
-constexpr double kPrimeClearance = 2.0;
 
 // Appends `units` / 10^decimals in fixed notation ("-12.500"), without going through printf: the
 // writer prints millions of numbers and the output must not depend on the locale.
@@ -61,66 +57,6 @@ std::string fixed(double value, int decimals) {
 
 double filament_area(const PrinterProfile& printer) {
   return std::numbers::pi * printer.filament_diameter * printer.filament_diameter / 4;
-}
-
-// Where the writer lays the primes of tool changes (ToolChange::prime_*): a serpentine of touching
-// beads filling the profile's prime area row by row along x, each prime going on where the last
-// one stopped. Bed coordinates, mm.
-struct PrimePad {
-  std::vector<Eigen::Vector2d> corners;
-  std::vector<double> arclength;  // at each corner
-  double bead_width = 0;
-  double bead_height = kPrimeHeight;
-  double capacity() const { return arclength.back(); }  // mm of bead
-
-  Eigen::Vector2d point(double s) const {
-    const size_t i = static_cast<size_t>(std::upper_bound(arclength.begin(), arclength.end(), s) -
-                                         arclength.begin());
-    if (i == 0) return corners.front();
-    if (i >= corners.size()) return corners.back();
-    const double t = (s - arclength[i - 1]) / (arclength[i] - arclength[i - 1]);
-    return corners[i - 1] + t * (corners[i] - corners[i - 1]);
-  }
-  // The corners strictly between s0 and s1, in the order met going from s0 to s1 (either way).
-  std::vector<Eigen::Vector2d> corners_between(double s0, double s1) const {
-    std::vector<Eigen::Vector2d> out;
-    for (size_t i = 0; i < corners.size(); ++i) {
-      if (arclength[i] > std::min(s0, s1) && arclength[i] < std::max(s0, s1)) {
-        out.push_back(corners[i]);
-      }
-    }
-    if (s1 < s0) std::reverse(out.begin(), out.end());
-    return out;
-  }
-};
-
-PrimePad prime_pad(const PrinterProfile& printer) {
-  const ToolChange& change = printer.tool_change;
-  PrimePad pad;
-  pad.bead_width = kPrimeWidthInNozzles * printer.nozzle_diameter;
-  const double w = pad.bead_width;
-  const double x0 = change.prime_area_min.x() + w / 2, x1 = change.prime_area_max.x() - w / 2;
-  const int rows = static_cast<int>(
-      std::floor((change.prime_area_max.y() - change.prime_area_min.y()) / w + 1e-9));
-  for (int r = 0; r < rows; ++r) {
-    const double y = change.prime_area_min.y() + w / 2 + r * w;
-    pad.corners.emplace_back(r % 2 == 0 ? x0 : x1, y);
-    pad.corners.emplace_back(r % 2 == 0 ? x1 : x0, y);
-  }
-  pad.arclength.push_back(0);
-  for (size_t i = 1; i < pad.corners.size(); ++i) {
-    pad.arclength.push_back(pad.arclength.back() + (pad.corners[i] - pad.corners[i - 1]).norm());
-  }
-  return pad;
-}
-
-// The temperature a shared nozzle flushes at when `from` gives way to `to`: the hotter of the two,
-// which clears the previous filament best, but no hotter than either allows. Needs overlapping
-// ranges (checked by make_gcode).
-double flush_temperature(const Material& from, const Material& to) {
-  const double lo = std::max(from.min_nozzle_temperature, to.min_nozzle_temperature);
-  const double hi = std::min(from.max_nozzle_temperature, to.max_nozzle_temperature);
-  return std::clamp(std::max(from.nozzle_temperature, to.nozzle_temperature), lo, hi);
 }
 
 // Checks what the writer relies on; a toolpath violating it is a bug of the code that made it,
@@ -930,87 +866,6 @@ std::vector<PathPolyline> skirt_loops(const Toolpath& toolpath, int loops, doubl
   return result;
 }
 
-// How many times the print changes tool: from T0 (where the start G-code leaves the firmware) to
-// the first tool, then wherever consecutive extruding segments change tool.
-int count_tool_changes(const Toolpath& toolpath, int first_tool) {
-  int changes = 0, tool = 0;
-  auto at = [&](int next) {
-    if (next != tool) ++changes;
-    tool = next;
-  };
-  at(first_tool);  // the skirt is printed by the first tool
-  for (const ToolpathLayer& layer : toolpath.layers) {
-    for (const PathPolyline& path : layer.paths) {
-      for (const SegmentStyle& s : path.segments) {
-        if (!s.travel) at(s.tool);
-      }
-    }
-  }
-  return changes;
-}
-
-// What the printer's tool changes need of this print: on a shared nozzle, a temperature every pair
-// of the materials takes; with a prime pad, room on it for every change and a pad clear of the
-// print. Returns the pad when the profile primes.
-std::optional<PrimePad> validate_tool_changes(const Toolpath& toolpath,
-                                              const PrinterProfile& printer,
-                                              const std::vector<Material>& tool_materials,
-                                              const std::set<int>& tools, int first_tool,
-                                              const Placement& placement) {
-  const ToolChange& change = printer.tool_change;
-  if (printer.extruder_count < 2) return std::nullopt;
-  if (change.shared_nozzle) {
-    for (int a : tools) {
-      for (int b : tools) {
-        const Material& ma = tool_materials[static_cast<size_t>(a)];
-        const Material& mb = tool_materials[static_cast<size_t>(b)];
-        if (a < b && std::max(ma.min_nozzle_temperature, mb.min_nozzle_temperature) >
-                         std::min(ma.max_nozzle_temperature, mb.max_nozzle_temperature)) {
-          throw UserError(
-              ErrorCategory::kOption,
-              fmt::format("T{} ({}, {:g}..{:g} C) and T{} ({}, {:g}..{:g} C) share the one nozzle "
-                          "of {}, but no temperature suits both for the flush between them: "
-                          "print them on a printer with a nozzle per tool, or choose materials "
-                          "whose ranges overlap",
-                          a, ma.name, ma.min_nozzle_temperature, ma.max_nozzle_temperature, b,
-                          mb.name, mb.min_nozzle_temperature, mb.max_nozzle_temperature,
-                          printer.name));
-        }
-      }
-    }
-  }
-  if (change.prime_volume <= 0) return std::nullopt;
-  const int changes = count_tool_changes(toolpath, first_tool);
-  if (changes == 0) return std::nullopt;
-  PrimePad pad = prime_pad(printer);
-  const double per_prime = change.prime_volume / (pad.bead_width * pad.bead_height);
-  const std::string area =
-      fmt::format("x [{:g}, {:g}], y [{:g}, {:g}]", change.prime_area_min.x(),
-                  change.prime_area_max.x(), change.prime_area_min.y(), change.prime_area_max.y());
-  if (changes * per_prime > pad.capacity() + 1e-9) {
-    throw UserError(
-        ErrorCategory::kInfeasible,
-        fmt::format("the print changes tools {} times and primes {:g} mm^3 at each, but "
-                    "the prime area of {} ({}) holds {} primes: print with fewer "
-                    "changes of material, or give a copy of the profile a larger "
-                    "tool_change.prime.area or a smaller volume",
-                    changes, change.prime_volume, printer.name, area,
-                    static_cast<int>(std::floor(pad.capacity() / per_prime))));
-  }
-  const Eigen::Vector2d lo = placement.min.array() - kPrimeClearance;
-  const Eigen::Vector2d hi = placement.max.array() + kPrimeClearance;
-  if ((lo.array() < change.prime_area_max.array()).all() &&
-      (hi.array() > change.prime_area_min.array()).all()) {
-    throw UserError(ErrorCategory::kInfeasible,
-                    fmt::format("the print spans x [{:.1f}, {:.1f}], y [{:.1f}, {:.1f}] on the bed "
-                                "and comes within {:g} mm of the prime area of {} ({}) where tool "
-                                "changes prime: place it elsewhere with --at X,Y",
-                                placement.min.x(), placement.max.x(), placement.min.y(),
-                                placement.max.y(), kPrimeClearance, printer.name, area));
-  }
-  return pad;
-}
-
 GcodeResult make_gcode(const Toolpath& toolpath, const PrinterProfile& printer,
                        const std::vector<Material>& tool_materials, const GcodeOptions& options) {
   if (tool_materials.empty()) {
@@ -1091,8 +946,8 @@ GcodeResult make_gcode(const Toolpath& toolpath, const PrinterProfile& printer,
                                 highest, printer.name, printer.max_height));
   }
 
-  const std::optional<PrimePad> pad =
-      validate_tool_changes(toolpath, printer, tool_materials, tools, first_tool, placement);
+  const std::optional<PrimePad> pad = validate_tool_changes(
+      toolpath, printer, tool_materials, tools, first_tool, placement.min, placement.max);
 
   GcodeResult result;
   result.plate_to_bed = placement.offset;
