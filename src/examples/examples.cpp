@@ -6,6 +6,7 @@
 #include <string>
 
 #include "common/error.h"
+#include "examples/ring_mesh.h"
 
 namespace flatmorph {
 
@@ -120,39 +121,20 @@ std::vector<double> even_ring_radii(const HeightField& field, int rings) {
 }
 
 // Disk of concentric rings: ring i (i >= 1) at radius radii[i] with 6 i vertices at angles
-// 2 pi j / (6 i), consecutive rings stitched into a strip of 12 i + 6 triangles. Every interior
-// vertex has valence 6 (a hexagonal lattice bent onto circles), so triangles stay near-equilateral.
-// Faces are counter-clockwise seen from +z.
+// 2 pi j / (6 i). Every interior vertex has valence 6 (a hexagonal lattice bent onto circles), so
+// triangles stay near-equilateral. Faces are counter-clockwise seen from +z.
 Mesh ring_disk(const std::vector<double>& radii) {
   const int rings = static_cast<int>(radii.size()) - 1;
-  auto first = [](int ring) { return ring == 0 ? 0 : 1 + 3 * ring * (ring - 1); };
+  std::vector<int> sizes;
+  for (int i = 1; i <= rings; ++i) sizes.push_back(6 * i);
   Mesh mesh;
-  mesh.V.setZero(first(rings + 1), 3);
-  mesh.F.resize(6 * rings * rings, 3);
+  mesh.F = ring_mesh_faces(sizes);
+  mesh.V.setZero(1 + 3 * rings * (rings + 1), 3);
+  int v = 1;
   for (int i = 1; i <= rings; ++i) {
     for (int j = 0; j < 6 * i; ++j) {
       const double psi = 2.0 * std::numbers::pi * j / (6 * i);
-      mesh.V.row(first(i) + j) << radii[i] * std::cos(psi), radii[i] * std::sin(psi), 0.0;
-    }
-  }
-  int f = 0;
-  for (int b = 0; b < 6; ++b) mesh.F.row(f++) << 0, first(1) + b, first(1) + (b + 1) % 6;
-  for (int i = 1; i < rings; ++i) {
-    const int m = 6 * i, n = 6 * (i + 1);
-    auto inner = [&](int a) { return first(i) + a % m; };
-    auto outer = [&](int b) { return first(i + 1) + b % n; };
-    // Merge the two rings by angle, closing the triangle toward whichever next vertex comes first
-    // (exact integer comparison of (b+1)/n with (a+1)/m). A tie means both next vertices are
-    // hexagon corners on the same ray; advancing the inner ring first makes the corner edge the
-    // short radial one, which reproduces the hexagonal lattice.
-    for (int a = 0, b = 0; a < m || b < n;) {
-      if (a == m || (b < n && (b + 1) * m < (a + 1) * n)) {
-        mesh.F.row(f++) << inner(a), outer(b), outer(b + 1);
-        ++b;
-      } else {
-        mesh.F.row(f++) << inner(a), outer(b), inner(a + 1);
-        ++a;
-      }
+      mesh.V.row(v++) << radii[i] * std::cos(psi), radii[i] * std::sin(psi), 0.0;
     }
   }
   return mesh;
