@@ -352,8 +352,7 @@ class Emitter {
   }
 
   // Lays the next tool's prime (`material` is its) on the pad where the last prime stopped, then
-  // wipes the nozzle back along the bead and retracts: reached from above the print, left for the
-  // next travel.
+  // wipes the nozzle back along the bead and retracts: reached and left above the print.
   void prime(const Material& material) {
     const PrimePad& pad = *pad_;
     const ToolChange& change = printer_.tool_change;
@@ -397,6 +396,8 @@ class Emitter {
       }
     }
     retract();
+    // Off the pad above everything printed: the next travel may cross a finished section.
+    move_z(safe_z());
   }
 
   Eigen::Vector3d point(const PathPolyline& path, size_t i) const {

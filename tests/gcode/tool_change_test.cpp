@@ -150,8 +150,14 @@ TEST(PrimePad, EachChangePrimesItsVolumeOnThePadWhereTheLastStopped) {
       y = ny;
     }
     EXPECT_NEAR(wiped, 3.0, 2e-3) << "after line " << l + 1;
-    ASSERT_LT(k, lines.size());
+    ASSERT_LT(k + 1, lines.size());
     EXPECT_LT(word(lines[k], 'E'), 0) << lines[k];
+    // Then up, 2 mm above everything printed, before any move across the bed.
+    double top = 0.2;
+    const size_t before = read.tool_changes[static_cast<size_t>(wipes)].extrusions_before;
+    for (size_t i = 0; i < before; ++i) top = std::max(top, all[i].z);
+    EXPECT_EQ(lines[k + 1].rfind("G0 Z", 0), 0u) << lines[k + 1];
+    EXPECT_NEAR(word(lines[k + 1], 'Z'), top + 2, 1e-9) << lines[k + 1];
     ++wipes;
   }
   EXPECT_EQ(wipes, 7);
