@@ -33,6 +33,7 @@ void BM_Family(benchmark::State& state) {
     const double total =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     const DesignMetrics& m = d.metrics;
+    state.SetLabel(target.name + ": " + d.optimization.stop_reason);
     state.counters["faces"] = m.faces;
     state.counters["width_mm"] = target.width_mm;
     state.counters["sim_avg_pct"] = m.dist_to_sim_avg_pct;
