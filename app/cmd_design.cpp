@@ -255,10 +255,8 @@ int run_design(DesignCliOptions& o, const GlobalOptions& global) {
                "usually helps)\n");
   }
   if (!design.optimization.converged) {
-    fmt::print(stderr,
-               "flatmorph: warning: the theta2 optimization stopped early ({}); the design uses "
-               "the best theta2 found. A finer mesh (--faces), a smaller --width or stronger "
-               "regularization (--wM, --wL) usually helps\n",
+    // The reason says why and what to change, in one sentence.
+    fmt::print(stderr, "flatmorph: warning: the theta2 optimization did not converge: {}\n",
                design.optimization.stop_reason);
   }
   if (o.json) fmt::print("{}\n", record.dump(2));

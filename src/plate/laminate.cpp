@@ -5,6 +5,7 @@
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
 #include <cmath>
+#include <stdexcept>
 
 #include "common/error.h"
 
@@ -190,9 +191,9 @@ RestForms laminate(const LayerStack& stack) { return laminate_impl(stack, nullpt
 RestForms laminate(const LayerStack& stack, const std::vector<double>& angle_rates,
                    LaminateDerivative& derivative) {
   if (static_cast<int>(angle_rates.size()) != stack.num_layers()) {
-    throw UserError(ErrorCategory::kOption,
-                    fmt::format("{} angle rates for a stack of {} layers: give one per layer",
-                                angle_rates.size(), stack.num_layers()));
+    throw std::invalid_argument(
+        fmt::format("{} angle rates for a stack of {} layers: give one per layer",
+                    angle_rates.size(), stack.num_layers()));
   }
   return laminate_impl(stack, &angle_rates, &derivative);
 }
@@ -205,10 +206,10 @@ RestForms single_material_rest_forms(const std::vector<Eigen::Matrix2d>& a_bar,
   const int num_faces = static_cast<int>(thickness.size());
   if (static_cast<int>(a_bar.size()) != num_faces || static_cast<int>(b_bar.size()) != num_faces ||
       material_angle.size() != num_faces) {
-    throw UserError(ErrorCategory::kOption,
-                    fmt::format("rest forms: {} first and {} second forms, {} material angles for "
-                                "{} faces: give one of each per face",
-                                a_bar.size(), b_bar.size(), material_angle.size(), num_faces));
+    throw std::invalid_argument(
+        fmt::format("rest forms: {} first and {} second forms, {} material angles for "
+                    "{} faces: give one of each per face",
+                    a_bar.size(), b_bar.size(), material_angle.size(), num_faces));
   }
   RestForms out;
   out.rest_first_fundamental_form = a_bar;

@@ -3,6 +3,7 @@
 #include <fmt/core.h>
 
 #include <cmath>
+#include <stdexcept>
 
 #include "common/error.h"
 
@@ -80,10 +81,10 @@ double shrink_morph_layer_weight(int k, int num_layers) {
 LayerStack shrink_morph_layer_stack(const Eigen::VectorXd& theta1, const Eigen::VectorXd& theta2,
                                     const Material& material, int num_layers, double layer_height) {
   if (theta1.size() != theta2.size()) {
-    throw UserError(ErrorCategory::kOption,
-                    fmt::format("theta1 has {} faces but theta2 has {}: give one value per face "
-                                "for both",
-                                theta1.size(), theta2.size()));
+    throw std::invalid_argument(
+        fmt::format("theta1 has {} faces but theta2 has {}: give one value per face "
+                    "for both",
+                    theta1.size(), theta2.size()));
   }
   if (num_layers < 1) {
     throw UserError(ErrorCategory::kOption,

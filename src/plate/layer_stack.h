@@ -7,6 +7,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <numbers>
 #include <vector>
 
 #include "material/material.h"
@@ -64,6 +65,14 @@ LayerStack shrink_morph_layer_stack(const Eigen::VectorXd& theta1, const Eigen::
 // w_k = (k-1)/(n-1) - 1/2: where layer k (1 on the bed) sits in the plate's thickness, from -1/2
 // (bed) to +1/2 (top); 0 for a single layer. d theta^k / d theta2 of the stack above.
 double shrink_morph_layer_weight(int k, int num_layers);
+
+// The largest |theta2| (rad) the design prints: π/2. theta2 is the angle from the bed layer's
+// direction to the top layer's; two printed lines have no sign, so they make an angle of at most
+// π/2, reached at |theta2| = π/2. Past it the outer layers' lines come closer again (at π − t as
+// at t), the layer directions alias, and the design buys no new pair of outer directions, only
+// stronger turns between neighbouring layers. On strongly curved test caps a bound of π/2 or 1.9
+// rad ended 2-3x closer to the target than π or none (docs/design.md).
+inline constexpr double kShrinkMorphTheta2Bound = std::numbers::pi / 2;
 
 // A per-vertex field averaged to faces (the plain mean of the three corners), as the paper does
 // for theta2 (§3.2.2).

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <stdexcept>
 
 #include "common/atomic_file.h"
 #include "common/error.h"
@@ -103,11 +104,10 @@ void write_plate_design(const std::filesystem::path& plate_mesh_path, const Plat
   check_layer_stack(design.stack);
   const int num_faces = static_cast<int>(design.F.rows());
   if (design.stack.num_faces() != num_faces || design.plate.cols() != 2) {
-    throw UserError(ErrorCategory::kOption,
-                    fmt::format("{}: the stack has {} faces for a plate of {} (and {} coordinates "
-                                "per vertex): give one value per face and a 2D plate",
-                                plate_mesh_path.string(), design.stack.num_faces(), num_faces,
-                                design.plate.cols()));
+    throw std::invalid_argument(fmt::format(
+        "{}: the stack has {} faces for a plate of {} (and {} coordinates "
+        "per vertex): give one value per face and a 2D plate",
+        plate_mesh_path.string(), design.stack.num_faces(), num_faces, design.plate.cols()));
   }
   MeshProperties properties = design.design_fields;
   nlohmann::ordered_json j;

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 
 #include "common/error.h"
 #include "mesh/topology.h"
@@ -272,10 +273,10 @@ PlateEnergy make_plate_energy(const Eigen::MatrixXd& plate, const Eigen::MatrixX
       static_cast<int>(rest_forms.rest_first_fundamental_form.size()) != num_faces ||
       static_cast<int>(rest_forms.rest_second_fundamental_form.size()) != num_faces ||
       static_cast<int>(rest_forms.stiffness.size()) != num_faces) {
-    throw UserError(ErrorCategory::kOption,
-                    fmt::format("the rest forms have {} faces but the plate has {}: compute them "
-                                "for this plate",
-                                rest_forms.num_faces(), num_faces));
+    throw std::invalid_argument(
+        fmt::format("the rest forms have {} faces but the plate has {}: compute them "
+                    "for this plate",
+                    rest_forms.num_faces(), num_faces));
   }
   PlateEnergy out;
   out.num_vertices = static_cast<int>(plate.rows());
@@ -450,9 +451,9 @@ void set_rest_forms(PlateEnergy& energy, const RestForms& rest_forms) {
       rest_forms.stiffness.size() != energy.faces.size() ||
       rest_forms.rest_first_fundamental_form.size() != energy.faces.size() ||
       rest_forms.rest_second_fundamental_form.size() != energy.faces.size()) {
-    throw UserError(ErrorCategory::kOption,
-                    fmt::format("rest forms of {} faces for a plate of {}: give one per face",
-                                rest_forms.num_faces(), energy.faces.size()));
+    throw std::invalid_argument(
+        fmt::format("rest forms of {} faces for a plate of {}: give one per face",
+                    rest_forms.num_faces(), energy.faces.size()));
   }
   for (size_t f = 0; f < energy.faces.size(); ++f) {
     set_face_rest_forms(energy.faces[f], rest_forms.rest_first_fundamental_form[f],
@@ -467,10 +468,10 @@ Eigen::SparseMatrix<double> rest_forms_mixed_derivative(const PlateEnergy& energ
   const int num_faces = static_cast<int>(energy.F.rows());
   if (static_cast<int>(derivative.stiffness.size()) != num_faces ||
       static_cast<int>(derivative.rest.size()) != num_faces) {
-    throw UserError(ErrorCategory::kOption,
-                    fmt::format("rest form derivatives of {} faces for a plate of {}: give one "
-                                "per face",
-                                derivative.rest.size(), num_faces));
+    throw std::invalid_argument(
+        fmt::format("rest form derivatives of {} faces for a plate of {}: give one "
+                    "per face",
+                    derivative.rest.size(), num_faces));
   }
   std::vector<Vec18> columns(num_faces);
   tbb::parallel_for(

@@ -330,9 +330,10 @@ TEST(Laminate, PlaOnTpuBilayerBendsAsTimoshenko) {
 
 TEST(Laminate, BadInputsAreUserErrors) {
   const Material m = paper_material();
+  // Arrays of different sizes are the caller's bug, not the user's: exit status 1.
   EXPECT_THROW(
       shrink_morph_layer_stack(Eigen::VectorXd::Zero(2), Eigen::VectorXd::Zero(3), m, 10, 0.08),
-      UserError);
+      std::invalid_argument);
   EXPECT_THROW(
       shrink_morph_layer_stack(Eigen::VectorXd::Zero(2), Eigen::VectorXd::Zero(2), m, 0, 0.08),
       UserError);

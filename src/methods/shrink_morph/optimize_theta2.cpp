@@ -2,17 +2,14 @@
 
 #include <fmt/core.h>
 
-#include <Eigen/CholmodSupport>
-#include <Eigen/SparseCholesky>
-#include <Eigen/SparseLU>
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 
 #include "common/error.h"
 #include "common/stopwatch.h"
 #include "mesh/operators.h"
-#include "methods/shrink_morph/gauss_newton_step.h"
 #include "numerics/newton.h"
 #include "numerics/sparse_cholesky.h"
 #include "plate/laminate.h"
@@ -21,23 +18,6 @@
 
 namespace flatmorph {
 namespace {
-
-// Symbolic analysis, numeric factorization and solve of a, each timed into `out`.
-template <typename Solver>
-bool factorize_and_solve(Solver& solver, const Eigen::SparseMatrix<double>& a,
-                         const Eigen::VectorXd& b, Eigen::VectorXd& z, GaussNewtonStep& out) {
-  auto t0 = Clock::now();
-  solver.analyzePattern(a);
-  out.analysis_seconds = seconds_since(t0);
-  t0 = Clock::now();
-  solver.factorize(a);
-  out.factorization_seconds = seconds_since(t0);
-  if (solver.info() != Eigen::Success) return false;
-  t0 = Clock::now();
-  z = solver.solve(b);
-  out.solve_seconds = seconds_since(t0);
-  return solver.info() == Eigen::Success && z.allFinite();
-}
 
 // Everything that stays fixed while theta2 changes, in the frame of the target's central face
 // (first vertex at the origin, first edge along +x, face in the xy plane), where the 3-2-1
@@ -49,8 +29,7 @@ class Theta2Solver {
     const int nv = static_cast<int>(problem.plate.rows());
     const int nf = static_cast<int>(problem.F.rows());
     if (problem.target.rows() != nv || problem.target.cols() != 3 || problem.theta1.size() != nf) {
-      throw UserError(
-          ErrorCategory::kOption,
+      throw std::invalid_argument(
           fmt::format("theta2 optimization: the target has {} x {} coordinates and "
                       "theta1 {} values for a plate of {} vertices and {} faces: give "
                       "one 3D position per vertex and one theta1 per face",
@@ -111,7 +90,7 @@ class Theta2Solver {
   const Eigen::VectorXd& target() const { return target_; }
 
   // The equilibrium for theta2 (per vertex) from `start` (in the frame).
-  // Line-search trials pass `trial`: their own iteration cap and tolerance.
+  // Line-search trials pass `trial`: their own iteration cap.
   NewtonResult forward(const Eigen::VectorXd& theta2, Eigen::VectorXd start, bool trial = false) {
     stack_ = theta2_layer_stack(*problem_, theta2);
     set_rest_forms(energy_, laminate(stack_));
@@ -126,7 +105,7 @@ class Theta2Solver {
     NewtonOptions newton_options;
     newton_options.max_iterations =
         trial ? options_.max_trial_forward_iterations : options_.forward.max_iterations;
-    newton_options.tolerance = newton_tolerance_ * (trial ? options_.trial_tolerance_factor : 1.0);
+    newton_options.tolerance = newton_tolerance_;
     const auto t0 = Clock::now();
     NewtonResult r = newton_minimize(newton, start, newton_options, &workspace_);
     forward_seconds_ += seconds_since(t0);
@@ -223,166 +202,6 @@ class Theta2Solver {
     return -(sensitivity_rhs_t_ * solve(dx)) + regularizer_product(v);
   }
 
-  // H at x with the fixed variables decoupled (lower triangle): linearize assembled it unless it
-  // reused the forward solve's factorization, which only gives solves.
-  Eigen::SparseMatrix<double> decoupled_hessian(const Eigen::VectorXd& x) const {
-    if (!use_forward_factorization_) return hessian_;
-    Eigen::VectorXd gradient;
-    Eigen::SparseMatrix<double> h;
-    evaluate_plate_energy(energy_, x, &gradient, &h, false);
-    double* values = h.valuePtr();
-    for (const auto& [k, diagonal] : fixed_entries_) values[k] = diagonal ? 1.0 : 0.0;
-    return h;
-  }
-
-  // The SGN KKT matrix of gauss_newton_step.h, both triangles, unknowns (Δx, Δθ, λ). A fixed
-  // coordinate's 2D entry is 1 instead of 0: its constraint row pins Δx_i = 0 whatever the entry
-  // is, and a 0 would leave the exact zero pivot of [0 1; 1 0] to the LDLᵀ solvers.
-  Eigen::SparseMatrix<double> kkt_matrix(const Eigen::SparseMatrix<double>& hessian) const {
-    const int n = 3 * nv_, theta = n, lambda = n + nv_;
-    std::vector<Eigen::Triplet<double>> t;
-    t.reserve(4 * hessian.nonZeros() + 2 * sensitivity_rhs_.nonZeros() + laplacian_.nonZeros() + n +
-              nv_);
-    for (int i = 0; i < n; ++i) {
-      t.emplace_back(i, i, is_fixed_[i] ? 1.0 : 2 * distance_weight_ * mass_(i / 3));
-    }
-    for (int col = 0; col < hessian.outerSize(); ++col) {
-      for (Eigen::SparseMatrix<double>::InnerIterator it(hessian, col); it; ++it) {
-        const int row = static_cast<int>(it.row());
-        t.emplace_back(row, lambda + col, it.value());
-        t.emplace_back(lambda + col, row, it.value());
-        if (row == col) continue;
-        t.emplace_back(col, lambda + row, it.value());
-        t.emplace_back(lambda + row, col, it.value());
-      }
-    }
-    for (int col = 0; col < sensitivity_rhs_.outerSize(); ++col) {
-      for (Eigen::SparseMatrix<double>::InnerIterator it(sensitivity_rhs_, col); it; ++it) {
-        t.emplace_back(lambda + it.row(), theta + col, it.value());
-        t.emplace_back(theta + col, lambda + it.row(), it.value());
-      }
-    }
-    for (int v = 0; v < nv_; ++v)
-      t.emplace_back(theta + v, theta + v, 2 * options_.w_M / area_ * mass_(v));
-    for (int col = 0; col < laplacian_.outerSize(); ++col) {
-      for (Eigen::SparseMatrix<double>::InnerIterator it(laplacian_, col); it; ++it) {
-        t.emplace_back(theta + it.row(), theta + col, 2 * options_.w_L * it.value());
-      }
-    }
-    Eigen::SparseMatrix<double> kkt(n + nv_ + n, n + nv_ + n);
-    kkt.setFromTriplets(t.begin(), t.end());
-    return kkt;
-  }
-
-  // The KKT unknowns grouped by vertex, x_v (3), θ_v, λ_v (3), the vertices in the AMD order of
-  // the KKT matrix's vertex graph; returns each unknown's new position. Ordered as scalars, the
-  // pairs (x_i, λ_i) are taken apart and the factor gets several times denser; grouped, λ_v's
-  // pivot (a zero diagonal) comes after x_v's (2D > 0), which fills it.
-  Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> kkt_vertex_order(
-      const Eigen::SparseMatrix<double>& kkt) const {
-    const int n = 3 * nv_;
-    auto vertex = [&](int i) { return i < n ? i / 3 : i < n + nv_ ? i - n : (i - n - nv_) / 3; };
-    std::vector<Eigen::Triplet<double>> t;
-    t.reserve(kkt.nonZeros());
-    for (int col = 0; col < kkt.outerSize(); ++col) {
-      for (Eigen::SparseMatrix<double>::InnerIterator it(kkt, col); it; ++it) {
-        t.emplace_back(vertex(static_cast<int>(it.row())), vertex(col), 1.0);
-      }
-    }
-    Eigen::SparseMatrix<double> graph(nv_, nv_);
-    graph.setFromTriplets(t.begin(), t.end());
-    Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> by_vertex;  // new -> old vertex
-    Eigen::AMDOrdering<int>()(graph, by_vertex);
-    Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> position(n + nv_ + n);
-    for (int k = 0; k < nv_; ++k) {
-      const int v = by_vertex.indices()(k);
-      for (int c = 0; c < 3; ++c) {
-        position.indices()(3 * v + c) = 7 * k + c;
-        position.indices()(n + nv_ + 3 * v + c) = 7 * k + 4 + c;
-      }
-      position.indices()(n + v) = 7 * k + 3;
-    }
-    return position;
-  }
-
-  // The Gauss–Newton step by the KKT system (after linearize at the equilibrium x): fills the
-  // step's direction, dx, sizes and timings; false when the factorization fails. H is the exact
-  // one even when linearize had to shift its factorization.
-  bool kkt_step(const Eigen::VectorXd& x, const Eigen::VectorXd& theta2, KktSolver kind,
-                GaussNewtonStep& out) const {
-    const int n = 3 * nv_;
-    auto t0 = Clock::now();
-    const Eigen::SparseMatrix<double> kkt = kkt_matrix(decoupled_hessian(x));
-    // Stationarity of the model in Δx and Δθ (first two rows), linearized equilibrium (last).
-    Eigen::VectorXd rhs = Eigen::VectorXd::Zero(kkt.rows());
-    rhs.head(n) = -distance_gradient(x);
-    rhs.segment(n, nv_) = -regularizer_product(theta2);
-    out.assembly_seconds = seconds_since(t0);
-    out.kkt_rows = static_cast<int>(kkt.rows());
-    out.kkt_nonzeros = kkt.nonZeros();
-    const bool by_vertex =
-        kind == KktSolver::kSimplicialLDLTByVertex || kind == KktSolver::kCholmodLDLTByVertex;
-    Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> position;
-    Eigen::SparseMatrix<double> permuted;
-    Eigen::VectorXd permuted_rhs;
-    double ordering_seconds = 0;
-    if (by_vertex) {
-      t0 = Clock::now();
-      position = kkt_vertex_order(kkt);
-      permuted = position * kkt * position.transpose();
-      permuted_rhs = position * rhs;
-      ordering_seconds = seconds_since(t0);
-    }
-    Eigen::VectorXd z;
-    auto run = [&](auto& solver) {
-      return by_vertex ? factorize_and_solve(solver, permuted, permuted_rhs, z, out)
-                       : factorize_and_solve(solver, kkt, rhs, z, out);
-    };
-    bool ok = false;
-    switch (kind) {
-      case KktSolver::kSparseLU: {
-        Eigen::SparseLU<Eigen::SparseMatrix<double>, Eigen::COLAMDOrdering<int>> lu;
-        ok = run(lu);
-        if (ok) out.factor_nonzeros = lu.nnzL() + lu.nnzU();
-        break;
-      }
-      case KktSolver::kSimplicialLDLT: {
-        Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower> ldlt;
-        ok = run(ldlt);
-        if (ok) out.factor_nonzeros = ldlt.matrixL().nestedExpression().nonZeros();
-        break;
-      }
-      case KktSolver::kSimplicialLDLTByVertex: {
-        Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower,
-                              Eigen::NaturalOrdering<int>>
-            ldlt;
-        ok = run(ldlt);
-        if (ok) out.factor_nonzeros = ldlt.matrixL().nestedExpression().nonZeros();
-        break;
-      }
-      case KktSolver::kCholmodLDLT:
-      case KktSolver::kCholmodLDLTByVertex: {
-        Eigen::CholmodSimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower> ldlt;
-        ldlt.cholmod().print = 0;
-        if (by_vertex) {
-          ldlt.cholmod().nmethods = 1;
-          ldlt.cholmod().method[0].ordering = CHOLMOD_NATURAL;
-        }
-        ok = run(ldlt);
-        if (ok) out.factor_nonzeros = static_cast<long>(ldlt.cholmod().lnz);
-        break;
-      }
-    }
-    out.analysis_seconds += ordering_seconds;
-    if (ok && by_vertex) z = position.transpose() * z;
-    out.seconds =
-        out.assembly_seconds + out.analysis_seconds + out.factorization_seconds + out.solve_seconds;
-    if (!ok) return false;
-    out.dx = z.head(n);
-    out.direction = z.segment(n, nv_);
-    return true;
-  }
-
   double forward_seconds() const { return forward_seconds_; }
   int shifted_factorizations() const { return shifted_factorizations_; }
 
@@ -410,8 +229,16 @@ class Theta2Solver {
   int shifted_factorizations_ = 0;
 };
 
+// Whether a forward solve reached an equilibrium. Newton's own test is converged; a stalled line
+// search counts only at the rounding limit: its last step used the exact Hessian H and predicted a
+// decrease ½ gᵀH⁻¹g (the gradient's size in the H⁻¹ norm) below 1e-10 |W|, which W, a sum over
+// thousands of faces, cannot resolve. A stall with a larger gradient is a failed solve (a fold of
+// the equilibrium branch, a snap-through), not an equilibrium.
 bool forward_ok(const NewtonResult& r) {
-  return r.status == NewtonStatus::kConverged || r.status == NewtonStatus::kLineSearchFailed;
+  if (r.status == NewtonStatus::kConverged) return true;
+  if (r.status != NewtonStatus::kLineSearchFailed || r.history.empty()) return false;
+  const NewtonIteration& last = r.history.back();
+  return last.exact_hessian && last.decrement <= 1e-10 * std::abs(r.energy);
 }
 
 // Conjugate gradients on the SPD Gauss–Newton system A d = b, from d = 0 (so every iterate is a
@@ -488,10 +315,16 @@ Theta2Result optimize_theta2(const Theta2Problem& problem, const Eigen::VectorXd
   Eigen::VectorXd theta2 =
       theta2_start.size() == 0 ? Eigen::VectorXd::Zero(nv) : Eigen::VectorXd(theta2_start);
   if (theta2.size() != nv) {
-    throw UserError(ErrorCategory::kOption,
-                    fmt::format("theta2 start has {} values for {} vertices: give one per vertex",
-                                theta2.size(), nv));
+    throw std::invalid_argument(fmt::format(
+        "theta2 start has {} values for {} vertices: give one per vertex", theta2.size(), nv));
   }
+  const double bound = options.max_abs_theta2.value_or(kShrinkMorphTheta2Bound);
+  if (!(bound > 0)) {
+    throw UserError(ErrorCategory::kOption,
+                    fmt::format("theta2 bound {} rad: give a positive bound", bound));
+  }
+  auto project = [bound](Eigen::VectorXd t) { return t.cwiseMax(-bound).cwiseMin(bound); };
+  theta2 = project(theta2);
   Theta2Result out;
   const NewtonResult initial = solver.forward(
       theta2, problem.start.size() ? solver.to_frame(problem.start) : solver.target());
@@ -502,7 +335,10 @@ Theta2Result optimize_theta2(const Theta2Problem& problem, const Eigen::VectorXd
   Eigen::Vector3d terms = solver.objective_terms(x, theta2);
   double objective = terms.sum();
   out.initial_objective = objective;
-  out.stop_reason = "iteration limit";
+  out.stop_reason = fmt::format(
+      "stopped after {} iterations while still improving; the best theta2 found is used, and a "
+      "coarser design mesh (--faces) gets further in as many iterations",
+      options.max_iterations);
   double trust_radius = options.max_step_rad;
   for (int iteration = 0; iteration < options.max_iterations; ++iteration) {
     Theta2Iteration record;
@@ -513,21 +349,36 @@ Theta2Result optimize_theta2(const Theta2Problem& problem, const Eigen::VectorXd
     const bool linearized = solver.linearize(x);
     record.shifted_hessian = solver.shifted_factorizations() > shifted_before;
     if (!linearized) {
-      out.stop_reason = "the equilibrium's Hessian could not be factorized";
+      out.stop_reason =
+          "the plate's equilibrium is not stable (its Hessian cannot be factorized, even "
+          "shifted), so no step can be computed; the best theta2 found is used, and a finer mesh "
+          "(--faces) or a smaller --width usually helps";
       break;
     }
     const Eigen::VectorXd g = solver.gradient(x, theta2);
     if (!g.allFinite() || !std::isfinite(objective)) {
       // Keep the last finite state rather than report a stationary point of NaNs.
-      out.stop_reason = "the objective or its gradient is not finite";
+      out.stop_reason =
+          "the distance or its gradient became NaN or infinite, so the last finite theta2 is "
+          "used; check the material's shrink ratios (flatmorph materials) or use a finer mesh "
+          "(--faces)";
       out.history.push_back(record);
       break;
     }
+    // A vertex at the bound whose descent points outward keeps its θ2: the step is solved on the
+    // others (the Gauss–Newton system restricted to them).
+    Eigen::VectorXd free = Eigen::VectorXd::Ones(nv);
+    for (int v = 0; v < nv; ++v) {
+      if (std::abs(theta2(v)) >= bound * (1 - 1e-12) && g(v) * theta2(v) < 0) free(v) = 0;
+    }
     const auto t_cg = Clock::now();
     Eigen::VectorXd direction;
-    record.cg_iterations =
-        conjugate_gradient([&](const Eigen::VectorXd& v) { return solver.gauss_newton_product(v); },
-                           -g, options.cg_tolerance, options.max_cg_iterations, direction);
+    record.cg_iterations = conjugate_gradient(
+        [&](const Eigen::VectorXd& v) {
+          return Eigen::VectorXd(
+              solver.gauss_newton_product(v.cwiseProduct(free)).cwiseProduct(free));
+        },
+        -g.cwiseProduct(free), options.cg_tolerance, options.max_cg_iterations, direction);
     const Eigen::VectorXd dx = solver.sensitivity(direction);
     out.cg_seconds += seconds_since(t_cg);
     const double slope = g.dot(direction);
@@ -558,7 +409,8 @@ Theta2Result optimize_theta2(const Theta2Problem& problem, const Eigen::VectorXd
     for (int k = 0;
          k < options.max_line_search_steps && step * direction_max >= options.min_step_rad;
          ++k, step *= 0.5) {
-      const Eigen::VectorXd trial_theta2 = theta2 + step * direction;
+      // Projected onto the bound, which only shortens some components of the step.
+      const Eigen::VectorXd trial_theta2 = project(theta2 + step * direction);
       // Warm start at the linear prediction x + s S Δθ.
       const NewtonResult trial = solver.forward(trial_theta2, x + step * dx, true);
       ++record.line_search_trials;
@@ -566,7 +418,7 @@ Theta2Result optimize_theta2(const Theta2Problem& problem, const Eigen::VectorXd
       if (!forward_ok(trial)) continue;
       const Eigen::Vector3d trial_terms = solver.objective_terms(trial.x, trial_theta2);
       const double trial_objective = trial_terms.sum();
-      if (trial_objective <= objective + options.armijo_constant * step * slope) {
+      if (trial_objective <= objective + options.armijo_constant * g.dot(trial_theta2 - theta2)) {
         accepted = true;
         theta2 = trial_theta2;
         x = trial.x;
@@ -586,9 +438,19 @@ Theta2Result optimize_theta2(const Theta2Problem& problem, const Eigen::VectorXd
       // solve of each trial turns unstable): the equilibrium sits near a fold, and the shapes
       // closer to the target lie beyond it. Solving such a trial to the end (a snap) took the hat
       // 200 Newton iterations without settling, so the optimization stops here.
-      out.stop_reason = step * direction_max < options.min_step_rad
-                            ? "stalled: every step leaves the current equilibrium branch"
-                            : "line search failed";
+      out.stop_reason =
+          step * direction_max < options.min_step_rad
+              ? fmt::format(
+                    "stalled at a fold of the plate's equilibrium branch: every step "
+                    "longer than {:g} rad left it or moved away from the target, so the "
+                    "best theta2 found is used; printing the other side up (--side) or a "
+                    "finer mesh (--faces) may get past it",
+                    options.min_step_rad)
+              : fmt::format(
+                    "no step lowered the distance in {} halvings, so the best theta2 "
+                    "found is used; stronger regularization (--wM, --wL) makes the "
+                    "problem smoother",
+                    options.max_line_search_steps);
       break;
     }
     ++out.iterations;
@@ -600,57 +462,15 @@ Theta2Result optimize_theta2(const Theta2Problem& problem, const Eigen::VectorXd
       break;
     }
   }
-  // Line-search trials stop at a looser tolerance; a soft plate (the saddle) can still creep by
-  // millimetres from there. The result is the equilibrium itself, so that the design's figures
-  // are those any simulation of the printed plate gives.
-  const NewtonResult final_solve = solver.forward(theta2, x);
-  if (forward_ok(final_solve)) {
-    x = final_solve.x;
-    terms = solver.objective_terms(x, theta2);
-    objective = terms.sum();
-  }
   out.theta2 = theta2;
+  out.theta2_bound = bound;
+  out.vertices_at_bound = static_cast<int>((theta2.array().abs() >= bound * (1 - 1e-12)).count());
   out.V = solver.from_frame(x);
   out.objective = objective;
   out.distance_term = terms(0);
   out.forward_seconds = solver.forward_seconds();
   out.shifted_factorizations = solver.shifted_factorizations();
   out.seconds = seconds_since(t0);
-  return out;
-}
-
-GaussNewtonStep theta2_gauss_newton_step(const Theta2Problem& problem,
-                                         const Eigen::VectorXd& theta2, GaussNewtonSystem system,
-                                         const OptimizeTheta2Options& options,
-                                         KktSolver kkt_solver) {
-  Theta2Solver solver(problem, options);
-  if (theta2.size() != problem.plate.rows()) {
-    throw UserError(ErrorCategory::kOption,
-                    fmt::format("theta2 has {} values for {} vertices: give one per vertex",
-                                theta2.size(), problem.plate.rows()));
-  }
-  const NewtonResult r = solver.forward(
-      theta2, problem.start.size() ? solver.to_frame(problem.start) : solver.target());
-  GaussNewtonStep out;
-  out.forward_converged = forward_ok(r);
-  if (!solver.linearize(r.x)) return out;
-  out.gradient = solver.gradient(r.x, theta2);
-  if (system == GaussNewtonSystem::kReducedCG) {
-    const auto t0 = Clock::now();
-    out.cg_iterations = conjugate_gradient(
-        [&](const Eigen::VectorXd& v) { return solver.gauss_newton_product(v); }, -out.gradient,
-        options.cg_tolerance, options.max_cg_iterations, out.direction);
-    // optimize_theta2 needs S Δθ too (the line search's warm start); the KKT system gives it.
-    out.dx = solver.sensitivity(out.direction);
-    out.seconds = out.solve_seconds = seconds_since(t0);
-    out.solved = true;
-  } else {
-    out.solved = solver.kkt_step(r.x, theta2, kkt_solver, out);
-  }
-  if (out.solved) {
-    out.reduced_residual =
-        (solver.gauss_newton_product(out.direction) + out.gradient).norm() / out.gradient.norm();
-  }
   return out;
 }
 

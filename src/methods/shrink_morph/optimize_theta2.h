@@ -18,6 +18,7 @@
 
 #include <Eigen/Core>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -80,10 +81,14 @@ struct OptimizeTheta2Options {
   double min_step_rad = 1e-3;
   // Newton iterations allowed to a line-search trial's forward solve (it starts at the linear
   // prediction, so a trial that needs more is a step too long, e.g. a snap-through): rejected.
+  // Trials are solved to the tolerance of every equilibrium: with a looser one (1000x, as
+  // before) the optimizer accepted states that were not equilibria, and on strongly curved caps
+  // the equilibrium of the θ2 it returned was farther from the target than θ2 = 0 (docs/design.md).
   int max_trial_forward_iterations = 4;
-  // The line-search trials' Newton tolerance is this times the one of `forward` (the first
-  // equilibrium): on large plates the tight one is below round-off and Newton crawls to the cap.
-  double trial_tolerance_factor = 1e3;
+  // θ2 stays within ±max_abs_theta2 (rad); empty: kShrinkMorphTheta2Bound (π/2), past
+  // which the layer directions alias (plate/layer_stack.h). Steps are
+  // projected onto the bound, and a vertex held at it is left out of the Gauss–Newton system.
+  std::optional<double> max_abs_theta2;
   SimulationOptions forward;  // the equilibrium solves
   // Called after every iteration, and with the record that stopped it (no line-search trial) when
   // the optimization converges (progress lines); may be empty.
@@ -99,6 +104,7 @@ struct Theta2Result {
   double distance_term = 0;
   int iterations = 0;
   bool converged = false;
+  // Converged: what stopped it. Otherwise one sentence for the user: why, and what to change.
   std::string stop_reason;
   std::vector<Theta2Iteration> history;
   double seconds = 0;
@@ -110,6 +116,8 @@ struct Theta2Result {
   // sensitivities are approximate).
   bool initial_forward_converged = false;
   int shifted_factorizations = 0;
+  double theta2_bound = 0;    // the bound θ2 was kept within, rad
+  int vertices_at_bound = 0;  // of the result
 };
 
 // The problem of a flattened target (flatten.h) printed in num_layers layers of `material`.

@@ -15,10 +15,11 @@
 #include "material/material.h"
 #include "mesh/mesh_fixtures.h"
 #include "methods/shrink_morph/flatten.h"
-#include "methods/shrink_morph/gauss_newton_step.h"
 #include "plate/laminate.h"
+#include "plate/layer_stack.h"
 #include "simulate/distance.h"
 #include "simulate/plate_energy.h"
+#include "simulate/simulate.h"
 
 namespace flatmorph {
 namespace {
@@ -114,12 +115,53 @@ TEST(OptimizeTheta2, LowersTheDistanceToTheTarget) {
   const ShapeDistance after = shape_distance(r.V, problem.target);
   EXPECT_LT(r.objective, r.initial_objective);
   // The printed laminate cannot twist without bound as the first-order model (Eq. 7, linear in θ2)
-  // could: on this cap it stops near 4.9 % (was 3.5 % on the first-order model; docs/design.md).
+  // could: on this cap it stops near 3.2 % (3.5 % on the first-order model; docs/design.md).
   EXPECT_LT(after.mean_percent * 2, before.mean_percent)
       << before.mean_percent << " -> " << after.mean_percent;
   EXPECT_GT(r.iterations, 0);
   std::cout << "cap: " << before.mean_percent << " -> " << after.mean_percent << " % in "
             << r.iterations << " iterations (" << r.stop_reason << ")\n";
+}
+
+// θ2 stays within its bound: with a bound well below what the cap asks for, the result sits on it
+// somewhere, never beyond, and still lowers E; by default the bound is the printed stack's.
+// What the optimizer returns is an equilibrium no farther from the target than θ2 = 0's, on caps
+// curved enough that the plate is multistable (θ2 = 0 lands 7-12 % from them). Line-search trials
+// solved to a 1000x looser tolerance let it accept states that were not equilibria, and the
+// returned θ2's equilibrium ended up farther than the start (E 1822 -> 2417 on the 50 mm cap).
+TEST(OptimizeTheta2, EndsCloserThanItStartsOnStronglyCurvedCaps) {
+  for (double radius : {50.0, 70.0, 100.0}) {
+    FlattenOptions flatten_options;
+    flatten_options.width_mm = 60;
+    const Theta2Problem problem = theta2_problem(flatten(cap_mesh(8, 20, radius), flatten_options),
+                                                 load_material("pla-paper"), 10);
+    const Theta2Result r = optimize_theta2(problem, {});
+    const double before = shape_distance(r.initial_V, problem.target).mean_percent;
+    const double after = shape_distance(r.V, problem.target).mean_percent;
+    EXPECT_LT(r.objective, 0.5 * r.initial_objective) << radius;
+    EXPECT_LT(after * 2, before) << radius;
+    // The returned shape is the equilibrium of the returned θ2: simulating it again stays put.
+    const SimulationResult again =
+        simulate(theta2_plate_problem(problem, r.theta2), r.V, OptimizeTheta2Options{}.forward);
+    EXPECT_LT((again.V - r.V).rowwise().norm().maxCoeff(), 1e-3) << radius;
+    std::cout << "cap of radius " << radius << " mm: " << before << " -> " << after << " % ("
+              << r.stop_reason << ")\n";
+  }
+}
+
+TEST(OptimizeTheta2, KeepsTheta2WithinItsBound) {
+  const Theta2Problem problem = cap_problem(8);
+  OptimizeTheta2Options options;
+  options.max_abs_theta2 = 0.05;
+  const Theta2Result r =
+      optimize_theta2(problem, Eigen::VectorXd::Constant(problem.plate.rows(), 0.3), options);
+  EXPECT_LE(r.theta2.cwiseAbs().maxCoeff(), 0.05);
+  EXPECT_DOUBLE_EQ(r.theta2_bound, 0.05);
+  EXPECT_GT(r.vertices_at_bound, 0);
+  EXPECT_LT(r.objective, r.initial_objective);
+  const Theta2Result unbounded = optimize_theta2(problem, {});
+  EXPECT_DOUBLE_EQ(unbounded.theta2_bound, kShrinkMorphTheta2Bound);
+  EXPECT_LT(unbounded.objective, r.objective);
 }
 
 // The stop on the Gauss–Newton decrement: every iteration but the last predicted at least the
@@ -149,39 +191,6 @@ TEST(OptimizeTheta2, StopsWhenTheGaussNewtonModelPredictsLessThanTheTolerance) {
     }
     EXPECT_GT(it.decrement, 0) << i;
     EXPECT_LE(it.decrement, it.objective) << i;
-  }
-}
-
-// The SGN KKT system and the reduced system are the same Gauss–Newton model (gauss_newton_step.h):
-// at a nonzero theta2, the KKT Δθ must equal the reduced one solved to a tight tolerance, its Δx
-// must be S Δθ, and the step must descend.
-TEST(Theta2GaussNewtonStep, KktSystemMatchesTheReducedSystem) {
-  const Theta2Problem problem = cap_problem(6);
-  const int nv = static_cast<int>(problem.plate.rows());
-  std::mt19937 rng(11);
-  std::uniform_real_distribution<double> uniform(-0.3, 0.3);
-  Eigen::VectorXd theta2(nv);
-  for (int v = 0; v < nv; ++v) theta2(v) = uniform(rng);
-  OptimizeTheta2Options options;
-  options.cg_tolerance = 1e-10;
-  options.max_cg_iterations = 10000;
-  const GaussNewtonStep reduced =
-      theta2_gauss_newton_step(problem, theta2, GaussNewtonSystem::kReducedCG, options);
-  ASSERT_TRUE(reduced.forward_converged);
-  ASSERT_TRUE(reduced.solved);
-  EXPECT_LT(reduced.reduced_residual, 1e-9);
-  ASSERT_GT(reduced.direction.norm(), 1e-6);
-  for (KktSolver kind : {KktSolver::kSparseLU, KktSolver::kSimplicialLDLT, KktSolver::kCholmodLDLT,
-                         KktSolver::kSimplicialLDLTByVertex, KktSolver::kCholmodLDLTByVertex}) {
-    const GaussNewtonStep kkt =
-        theta2_gauss_newton_step(problem, theta2, GaussNewtonSystem::kKKT, options, kind);
-    const int k = static_cast<int>(kind);
-    ASSERT_TRUE(kkt.solved) << k;
-    EXPECT_EQ(kkt.kkt_rows, 7 * nv);
-    EXPECT_LT((kkt.direction - reduced.direction).norm(), 1e-6 * reduced.direction.norm()) << k;
-    EXPECT_LT((kkt.dx - reduced.dx).norm(), 1e-6 * reduced.dx.norm()) << k;
-    EXPECT_LT(kkt.gradient.dot(kkt.direction), 0) << k;
-    EXPECT_LT(kkt.reduced_residual, 1e-6) << k;
   }
 }
 
