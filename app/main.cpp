@@ -6,7 +6,9 @@
 
 #include <CLI/CLI.hpp>
 #include <csignal>
+#include <cstdlib>
 #include <exception>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -14,7 +16,7 @@
 #include "commands.h"
 #include "common/atomic_file.h"
 #include "common/error.h"
-#include "numerics/sparse_cholesky.h"
+#include "numerics/linear_algebra_threads.h"
 
 namespace {
 
@@ -55,7 +57,6 @@ void exit_cleanly_on_signals() {
 int main(int argc, char** argv) {
   using namespace flatmorph;
   exit_cleanly_on_signals();
-  use_single_threaded_blas();
   CLI::App app{
       "flatmorph: turns a target 3D surface into a flat plate for an ordinary FFF printer that "
       "morphs into that surface when dipped in hot water (Shrink & Morph, TOG 2023).\n"
@@ -66,6 +67,11 @@ int main(int argc, char** argv) {
   app.fallthrough();
   cli::GlobalOptions global;
   app.add_flag("-q,--quiet", global.quiet, "Print only errors");
+  std::optional<int> threads;
+  app.add_option("--threads", threads,
+                 "Threads for the BLAS of the sparse factorizations (default: the number measured "
+                 "once on this machine and kept in ~/.cache/flatmorph/threads.json; also "
+                 "FLATMORPH_THREADS)");
 
   // Add new commands here, one line each, in the order `flatmorph --help` lists them.
   std::vector<cli::Command> commands = {
@@ -89,6 +95,22 @@ int main(int argc, char** argv) {
     return 2;
   }
   try {
+    if (!threads) {
+      if (const char* env = std::getenv("FLATMORPH_THREADS"); env && *env) {
+        char* end = nullptr;
+        const long value = std::strtol(env, &end, 10);
+        if (*end != '\0' || value < 1 || value > 1024) {
+          throw UserError(ErrorCategory::kOption,
+                          fmt::format("FLATMORPH_THREADS={}: give a whole number of threads, 1 or "
+                                      "more, or unset it to use the number measured on this "
+                                      "machine",
+                                      env));
+        }
+        threads = static_cast<int>(value);
+      }
+    }
+    set_linear_algebra_threads(
+        choose_linear_algebra_threads(threads, threads_cache_path()).threads);
     for (auto& command : commands) {
       if (command.app->parsed()) return command.run();
     }

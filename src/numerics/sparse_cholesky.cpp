@@ -1,6 +1,5 @@
 #include "numerics/sparse_cholesky.h"
 
-#include <dlfcn.h>
 #include <omp.h>
 
 namespace flatmorph {
@@ -22,14 +21,6 @@ void factorize(SparseCholesky& solver, const Eigen::SparseMatrix<double>& a) {
     ~SerialOpenMp() { omp_set_max_active_levels(saved); }
   } serial_openmp;
   solver.factorize(a);
-}
-
-void use_single_threaded_blas() {
-  // Looked up at run time: the BLAS is whichever the system's alternatives select, and only
-  // OpenBLAS has threads.
-  using SetNumThreads = void (*)(int);
-  const auto set = reinterpret_cast<SetNumThreads>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
-  if (set) set(1);
 }
 
 }  // namespace flatmorph

@@ -2,7 +2,6 @@
 // it found it; the programs' BLAS runs on one thread.
 #include "numerics/sparse_cholesky.h"
 
-#include <dlfcn.h>
 #include <gtest/gtest.h>
 #include <omp.h>
 
@@ -48,21 +47,6 @@ TEST(SparseCholesky, FactorizesAndRestoresTheCallersOpenMpSetting) {
   factorize(solver, indefinite);
   EXPECT_NE(solver.info(), Eigen::Success);
   EXPECT_EQ(omp_get_max_active_levels(), before);
-}
-
-// The test runs on the OpenBLAS the setup installs; its thread count starts at the core count.
-TEST(SparseCholesky, TheProgramsBlasRunsOnOneThread) {
-  using Get = int (*)();
-  using Set = void (*)(int);
-  const auto get = reinterpret_cast<Get>(dlsym(RTLD_DEFAULT, "openblas_get_num_threads"));
-  const auto set = reinterpret_cast<Set>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
-  ASSERT_NE(get, nullptr) << "the BLAS loaded is not OpenBLAS (scripts/setup installs it)";
-  ASSERT_NE(set, nullptr);
-  const int before = get();
-  set(2);
-  use_single_threaded_blas();
-  EXPECT_EQ(get(), 1);
-  set(before);
 }
 
 }  // namespace

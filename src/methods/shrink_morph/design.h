@@ -39,12 +39,10 @@ struct DesignOptions {
   // The first pass (both sides designed one Loop step coarser when the curvature does not tell
   // the printed side) runs `optimize` with these two changed. Its line-search trials may take
   // this many Newton iterations: a trial there costs a quarter and may snap to another branch,
-  // which the design level's short trials reject (the paper's hat with its normal side up ends at
-  // 0.37 % / 1.58 % from the target this way, avg / max, against 0.82 % / 5.62 % with 4 or 12;
-  // 150 gives the same as 30, slower).
+  // which the design level's short trials reject (measured in docs/design.md).
   int first_pass_trial_forward_iterations = 30;
   // ... and it gives up on a side once its steps fall below this (max |Δθ2|, rad): it only has to
-  // tell the sides apart (the hat's losing side costs 4.5 s instead of 9.9 s with 1e-3).
+  // tell the sides apart, not finish either.
   double first_pass_min_step_rad = 0.03;
   // Stages "prepare", "flatten", "choose side", "simulate", "optimize theta2"; may be empty.
   ProgressCallback progress;

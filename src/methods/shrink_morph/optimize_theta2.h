@@ -64,7 +64,7 @@ struct OptimizeTheta2Options {
   // Stop when the Gauss–Newton model predicts that its full step lowers E by less than this (E's
   // distance term is the mean squared distance in units of (0.3 % of the diagonal)², so 0.02 is a
   // fiftieth of that unit), or when an iteration lowers E by less than relative_decrease × E.
-  // Past this point the paper's saddle only trades its maximum distance for its mean
+  // Past this point the optimization only trades the maximum distance for the mean
   // (docs/design.md).
   double decrement_tolerance = 0.02;
   double relative_decrease = 1e-4;
