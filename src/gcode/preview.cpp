@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <stdexcept>
 
 #include "common/atomic_file.h"
@@ -87,12 +88,20 @@ std::string layer_svg(const Toolpath& toolpath, size_t layer_index, const Previe
       "{:.1f} mm of travel</title>\n",
       layer_index + 1, toolpath.layers.size(), layer.z, layer.height, layer.paths.size(),
       extrusion_length(layer), travel_length(layer));
+  const LayerSingularities* marks =
+      layer_index < options.singularities.size() ? &options.singularities[layer_index] : nullptr;
+  const std::string marks_caption =
+      marks ? fmt::format(
+                  "; {} direction singularities (red circles), {} stripe forks (orange "
+                  "squares)",
+                  marks->field.size(), marks->forks.size())
+            : "";
   svg += fmt::format(
       "<text x=\"{}\" y=\"{}\" font-family=\"sans-serif\" font-size=\"{}\" fill=\"#000\">layer {} "
       "of {}, z = {:.3f} mm: {} paths coloured by print order (dark first, yellow last), "
-      "travels dashed</text>\n",
+      "travels dashed{}</text>\n",
       num(box.lo.x() + 0.02 * size.x()), num(-box.hi.y() - 0.3 * legend), num(0.45 * legend),
-      layer_index + 1, toolpath.layers.size(), layer.z, layer.paths.size());
+      layer_index + 1, toolpath.layers.size(), layer.z, layer.paths.size(), marks_caption);
   // Plate coordinates have y up, SVG y down: mirror y.
   svg +=
       "<g transform=\"scale(1,-1)\" fill=\"none\" stroke-linecap=\"round\" "
@@ -134,6 +143,21 @@ std::string layer_svg(const Toolpath& toolpath, size_t layer_index, const Previe
                         num(path.points(last, 0)), num(path.points(last, 1)),
                         num(layer.paths[p + 1].points(0, 0)), num(layer.paths[p + 1].points(0, 1)));
       }
+    }
+    svg += "</g>\n";
+  }
+  if (marks) {
+    // Sized by the path width, so that a mark covers about the paths it concerns.
+    const double r = 2 * (layer.paths.empty() ? 0.4 : mean_width(layer.paths.front()));
+    svg += fmt::format("<g stroke-width=\"{}\">\n", num(0.4 * r));
+    for (const Eigen::Vector2d& q : marks->field) {
+      svg += fmt::format("<circle cx=\"{}\" cy=\"{}\" r=\"{}\" stroke=\"#d62728\"/>\n", num(q.x()),
+                         num(q.y()), num(r));
+    }
+    for (const Eigen::Vector2d& q : marks->forks) {
+      svg +=
+          fmt::format("<rect x=\"{}\" y=\"{}\" width=\"{}\" height=\"{}\" stroke=\"#ff7f0e\"/>\n",
+                      num(q.x() - 0.7 * r), num(q.y() - 0.7 * r), num(1.4 * r), num(1.4 * r));
     }
     svg += "</g>\n";
   }
@@ -222,6 +246,21 @@ std::vector<unsigned char> overview_png(const Toolpath& toolpath, const PreviewO
                          {150, 150, 150}, clip);
         }
       }
+    }
+    if (shown[i] < options.singularities.size()) {
+      const LayerSingularities& marks = options.singularities[shown[i]];
+      auto ring = [&](const Eigen::Vector2d& q, double radius, const Rgb& c, int corners) {
+        const Eigen::Vector2d center = px(q.x(), q.y());
+        for (int k = 0; k < corners; ++k) {
+          const double a0 = 2 * std::numbers::pi * k / corners + std::numbers::pi / 4,
+                       a1 = 2 * std::numbers::pi * (k + 1) / corners + std::numbers::pi / 4;
+          canvas.segment(center + radius * Eigen::Vector2d(std::cos(a0), std::sin(a0)),
+                         center + radius * Eigen::Vector2d(std::cos(a1), std::sin(a1)), 0.6, c,
+                         clip);
+        }
+      };
+      for (const Eigen::Vector2d& q : marks.field) ring(q, 4, {214, 39, 40}, 12);
+      for (const Eigen::Vector2d& q : marks.forks) ring(q, 3.5, {255, 127, 14}, 4);
     }
     draw_text(canvas, ox + 4, oy + 4, std::to_string(shown[i] + 1), 2, {0, 0, 0});
   }

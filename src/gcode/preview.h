@@ -13,9 +13,20 @@
 
 namespace flatmorph {
 
+// Where a layer's paths meet singularities (mm, plate frame): points where its print direction
+// field has no direction (the paths turn around them) and points where its stripes fork (a path
+// ends or begins inside the plate).
+struct LayerSingularities {
+  std::vector<Eigen::Vector2d> field;
+  std::vector<Eigen::Vector2d> forks;
+};
+
 struct PreviewOptions {
   // Boundary loops of the plate (#P x 2, mm, plate frame), drawn under the paths; empty: none.
   std::vector<Eigen::MatrixX2d> outline;
+  // Per layer, bottom first, drawn over the paths: field singularities as red circles, stripe
+  // forks as orange squares; empty (or shorter than the toolpath): none for those layers.
+  std::vector<LayerSingularities> singularities;
   bool travels = true;     // draw the travels between polylines (dashed)
   int panel_pixels = 400;  // PNG: side of one layer's panel, pixels
   int max_panels = 12;     // PNG: at most this many layers, evenly spaced, first and last included

@@ -37,6 +37,9 @@ void write_print_files(const std::filesystem::path& dir, const PrintPlan& plan,
                        const PrinterProfile& printer, const LayerStack& stack) {
   PreviewOptions preview;
   preview.outline = plan.outline;
+  for (const LayerPathReport& layer : plan.paths.layers) {
+    preview.singularities.push_back({layer.singular_points, layer.fork_points});
+  }
   write_layer_svgs(dir / "layers", plan.paths.toolpath, preview);
   write_overview_png(dir / "layers" / "overview.png", plan.paths.toolpath, preview);
   write_gcode(dir / "plate.gcode", plan.paths.toolpath, printer, stack.materials,

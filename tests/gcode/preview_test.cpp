@@ -141,6 +141,33 @@ TEST(Preview, PngOverviewDrawsThePaths) {
   EXPECT_EQ(png, overview_png(toolpath, options));
 }
 
+// A layer's singularities are marked where they are (mm, y mirrored by the group transform), and
+// the caption counts them; a layer without an entry gets no marks.
+TEST(Preview, SingularitiesAreMarkedOnTheirLayer) {
+  const Toolpath toolpath = three_lines();
+  PreviewOptions options;
+  options.singularities.push_back({{Eigen::Vector2d(20, 5)}, {Eigen::Vector2d(30, 15)}});
+  const std::string svg = layer_svg(toolpath, 0, options);
+  EXPECT_EQ(count(svg, "<circle "), 1u);
+  EXPECT_NE(svg.find("<circle cx=\"20.000\" cy=\"5.000\""), std::string::npos);
+  EXPECT_EQ(count(svg, "<rect "), 1u);
+  EXPECT_NE(svg.find("1 direction singularities (red circles), 1 stripe forks"), std::string::npos);
+  EXPECT_EQ(count(layer_svg(toolpath, 0), "<circle "), 0u);
+  // In the PNG, a red ring around (20, 5) mm: its pixels near the ring's radius are red.
+  options.panel_pixels = 200;
+  options.travels = false;
+  const Image image = decode(overview_png(toolpath, options));
+  const double pixels_per_mm = (200 - 4) / (40 + 2 * 1.2);
+  const int cx = 4 + 100, cy = 4 + 100;                                               // (20, 10) mm
+  const int rx = cx, ry = cy + static_cast<int>(std::lround(5 * pixels_per_mm)) - 4;  // 4 px above
+  bool red = false;
+  for (int dy = -1; dy <= 1; ++dy) {
+    const unsigned char* p = image.at(rx, ry + dy);
+    red = red || (p[0] > 180 && p[1] < 120 && p[2] < 120);
+  }
+  EXPECT_TRUE(red);
+}
+
 TEST(Preview, PngOverviewHasAPanelPerShownLayer) {
   const Toolpath toolpath = testing::disk_toolpath(20, 5);
   PreviewOptions options;
