@@ -6,7 +6,6 @@
 
 #include <CLI/CLI.hpp>
 #include <csignal>
-#include <cstdlib>
 #include <exception>
 #include <optional>
 #include <string>
@@ -95,22 +94,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   try {
-    if (!threads) {
-      if (const char* env = std::getenv("FLATMORPH_THREADS"); env && *env) {
-        char* end = nullptr;
-        const long value = std::strtol(env, &end, 10);
-        if (*end != '\0' || value < 1 || value > 1024) {
-          throw UserError(ErrorCategory::kOption,
-                          fmt::format("FLATMORPH_THREADS={}: give a whole number of threads, 1 or "
-                                      "more, or unset it to use the number measured on this "
-                                      "machine",
-                                      env));
-        }
-        threads = static_cast<int>(value);
-      }
-    }
-    set_linear_algebra_threads(
-        choose_linear_algebra_threads(threads, threads_cache_path()).threads);
+    configure_linear_algebra_threads(threads);
     for (auto& command : commands) {
       if (command.app->parsed()) return command.run();
     }

@@ -2,17 +2,18 @@
 // machine (numerics/linear_algebra_threads.h; FLATMORPH_THREADS overrides, as for the CLI).
 #include <benchmark/benchmark.h>
 
-#include <cstdlib>
+#include <cstdio>
 #include <optional>
-#include <string>
 
 #include "numerics/linear_algebra_threads.h"
 
 int main(int argc, char** argv) {
-  std::optional<int> threads;
-  if (const char* env = std::getenv("FLATMORPH_THREADS"); env && *env) threads = std::atoi(env);
-  flatmorph::set_linear_algebra_threads(
-      flatmorph::choose_linear_algebra_threads(threads, flatmorph::threads_cache_path()).threads);
+  try {
+    flatmorph::configure_linear_algebra_threads(std::nullopt);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "flatmorph_bench: %s\n", e.what());
+    return 2;
+  }
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   benchmark::RunSpecifiedBenchmarks();

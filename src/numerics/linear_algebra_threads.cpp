@@ -157,6 +157,25 @@ ThreadsChoice choose_linear_algebra_threads(std::optional<int> given,
   return choice;
 }
 
+ThreadsChoice configure_linear_algebra_threads(std::optional<int> given) {
+  if (!given) {
+    if (const char* env = std::getenv("FLATMORPH_THREADS"); env && *env) {
+      char* end = nullptr;
+      const long value = std::strtol(env, &end, 10);
+      if (*end != '\0' || value < 1 || value > 1024) {
+        throw UserError(ErrorCategory::kOption,
+                        fmt::format("FLATMORPH_THREADS={}: give a whole number of threads, 1 or "
+                                    "more, or unset it to use the number measured on this machine",
+                                    env));
+      }
+      given = static_cast<int>(value);
+    }
+  }
+  const ThreadsChoice choice = choose_linear_algebra_threads(given, threads_cache_path());
+  set_linear_algebra_threads(choice.threads);
+  return choice;
+}
+
 void set_linear_algebra_threads(int threads) {
   if (const SetNumThreads set = openblas_set_num_threads()) set(threads);
 }

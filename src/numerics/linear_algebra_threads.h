@@ -48,6 +48,11 @@ std::filesystem::path threads_cache_path();
 ThreadsChoice choose_linear_algebra_threads(std::optional<int> given,
                                             const std::filesystem::path& cache);
 
+// What the programs call once at their start: `given` (the --threads option) or else the
+// environment's FLATMORPH_THREADS (a whole number >= 1, else UserError kOption), else the cached or
+// measured number (choose_linear_algebra_threads with threads_cache_path()), set for the process.
+ThreadsChoice configure_linear_algebra_threads(std::optional<int> given);
+
 // Makes OpenBLAS, when it is the BLAS this process runs on, use `threads` threads (its threads
 // wait for work by spinning: on a busy machine more than it has cores for stall every call).
 void set_linear_algebra_threads(int threads);

@@ -3,6 +3,7 @@
 #include <dlfcn.h>
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <fstream>
 #include <nlohmann/json.hpp>
 
@@ -34,6 +35,17 @@ TEST(LinearAlgebraThreads, GivenOverridesAndBadValuesAreOptionErrors) {
   } catch (const UserError& e) {
     EXPECT_EQ(e.category(), ErrorCategory::kOption);
   }
+}
+
+// The environment's FLATMORPH_THREADS stands in for a missing --threads; a given number wins.
+TEST(LinearAlgebraThreads, EnvironmentGivesTheNumberUnlessTheOptionDoes) {
+  setenv("FLATMORPH_THREADS", "1", 1);
+  EXPECT_EQ(configure_linear_algebra_threads(std::nullopt).source, "given");
+  EXPECT_EQ(configure_linear_algebra_threads(1).threads, 1);
+  setenv("FLATMORPH_THREADS", "two", 1);
+  EXPECT_THROW(configure_linear_algebra_threads(std::nullopt), UserError);
+  EXPECT_EQ(configure_linear_algebra_threads(1).source, "given");
+  unsetenv("FLATMORPH_THREADS");
 }
 
 // Measured once, then read back from the cache; a cache from another machine is measured again
