@@ -177,6 +177,14 @@ std::string fan_command(GcodeFlavor flavor, double percent) {
 // Emits the moves of the print and keeps the machine state: where the head is, what the E register
 // holds, the feed rate, the active tool, whether each tool's filament is retracted, and the
 // annotations in effect.
+// A material's own speeds (mm/s) where it sets them, the printer's otherwise.
+double print_speed(const PrinterProfile& printer, const Material& material) {
+  return material.print_speed > 0 ? material.print_speed : printer.print_speed;
+}
+double first_layer_speed(const PrinterProfile& printer, const Material& material) {
+  return material.first_layer_speed > 0 ? material.first_layer_speed : printer.first_layer_speed;
+}
+
 class Emitter {
  public:
   Emitter(const PrinterProfile& printer, const std::vector<Material>& tool_materials,
@@ -375,8 +383,7 @@ class Emitter {
     append_fixed(out_, height_, 3);
     out_ += '\n';
     type_.reset();  // the print's next path says its type again
-    const double speed =
-        material.first_layer_speed > 0 ? material.first_layer_speed : printer_.first_layer_speed;
+    const double speed = first_layer_speed(printer_, material);
     const double per_mm = pad.bead_width * pad.bead_height / filament_area(printer_);
     Eigen::Vector2d at = first;
     std::vector<Eigen::Vector2d> points = pad.corners_between(begin, end);
@@ -407,10 +414,7 @@ class Emitter {
   double extrusion_speed(const SegmentStyle& s) const {
     if (s.feed_rate > 0) return s.feed_rate;
     const Material& m = materials_[static_cast<size_t>(s.tool)];
-    if (first_of_section_) {
-      return m.first_layer_speed > 0 ? m.first_layer_speed : printer_.first_layer_speed;
-    }
-    return m.print_speed > 0 ? m.print_speed : printer_.print_speed;
+    return first_of_section_ ? first_layer_speed(printer_, m) : print_speed(printer_, m);
   }
 
   void annotate(PathType type, const SegmentStyle& s) {
@@ -672,11 +676,9 @@ std::string per_tool(const std::vector<double>& values, double scale) {
 // `unit`: said before the source ("first layer 15 mm/s (from the material)"), or left out.
 std::string speeds_of(const PrinterProfile& printer, const Material& material,
                       std::string_view unit) {
-  return fmt::format(
-      "print {:g}, first layer {:g}{} (from the {})",
-      material.print_speed > 0 ? material.print_speed : printer.print_speed,
-      material.first_layer_speed > 0 ? material.first_layer_speed : printer.first_layer_speed, unit,
-      material.print_speed > 0 ? "material" : "printer");
+  return fmt::format("print {:g}, first layer {:g}{} (from the {})", print_speed(printer, material),
+                     first_layer_speed(printer, material), unit,
+                     material.print_speed > 0 ? "material" : "printer");
 }
 
 std::string header(const PrinterProfile& printer, const std::vector<Material>& tool_materials,
