@@ -6,13 +6,13 @@
 #include <benchmark/benchmark.h>
 
 #include <chrono>
-#include <filesystem>
 
 #include "material/material.h"
 #include "mesh/io.h"
 #include "mesh/subdivide.h"
 #include "methods/shrink_morph/design.h"
 #include "methods/shrink_morph/flatten.h"
+#include "paper_models.h"
 #include "plate/laminate.h"
 #include "simulate/distance.h"
 #include "simulate/simulate.h"
@@ -20,40 +20,9 @@
 namespace flatmorph {
 namespace {
 
-struct PaperModel {
-  const char* name;
-  int faces;
-  double width_mm;
-  double w_D;
-  // Which side is printed on top: the one design_shrink_morph chooses (docs/design.md, Table 1).
-  bool flip;
-  double paper_sim_avg, paper_sim_max;      // Table 1, "Dist. to sim."
-  double paper_optim_avg, paper_optim_max;  // Table 1, "Dist. to optim."
-  double paper_total_s;                     // Table 1, t_param + t_optim (6-core Xeon)
-};
-
-constexpr PaperModel kModels[] = {
-    {"hemisphere-big", 17152, 150, 0.1, false, 3.36, 10.28, 0.25, 3.02, 147},
-    {"saddle", 2048, 100, 0.0, true, 2.20, 6.05, 0.47, 2.15, 4},
-    {"beetle", 8448, 200, 0.0, true, 5.41, 16.23, 0.34, 1.41, 123},
-    {"face", 3996, 200, 0.1, false, 2.81, 12.56, 0.36, 2.04, 50},
-    {"top", 3584, 250, 0.0, true, 5.85, 45.62, 0.24, 2.95, 62},
-    {"hat", 11008, 100, 0.1, false, 1.34, 9.31, 0.30, 1.18, 73},
-};
-
-// The model's file in ../shared/meshes; empty (and the benchmark skipped) when it is missing.
-std::filesystem::path model_path(const PaperModel& model, benchmark::State& state) {
-  state.SetLabel(model.name);
-  const std::filesystem::path path =
-      std::filesystem::path(FLATMORPH_SHARED_DIR) / "meshes" / (std::string(model.name) + ".obj");
-  if (std::filesystem::exists(path)) return path;
-  state.SkipWithError("../shared/meshes is not beside the project");
-  return {};
-}
-
 void BM_DistToSim(benchmark::State& state) {
-  const PaperModel& model = kModels[state.range(0)];
-  const std::filesystem::path path = model_path(model, state);
+  const PaperModel& model = kPaperModels[state.range(0)];
+  const std::filesystem::path path = paper_model_path(model, state);
   if (path.empty()) return;
   const Material material = load_material("pla-paper");
   for (auto _ : state) {
@@ -87,8 +56,8 @@ BENCHMARK(BM_DistToSim)->DenseRange(0, 5)->Unit(benchmark::kSecond)->Iterations(
 // The whole design (design.h) with the paper's settings: Table 1's distances before and after
 // optimizing theta2, and the times, next to the paper's figures.
 void BM_Table1(benchmark::State& state) {
-  const PaperModel& model = kModels[state.range(0)];
-  const std::filesystem::path path = model_path(model, state);
+  const PaperModel& model = kPaperModels[state.range(0)];
+  const std::filesystem::path path = paper_model_path(model, state);
   if (path.empty()) return;
   DesignOptions options;
   options.material = load_material("pla-paper");

@@ -1,16 +1,22 @@
 // Print paths for the paper's Hat design (hat.obj Loop-subdivided to 11008 faces, flattened to a
 // 100 mm plate): 10 layers of stripe-pattern trajectories and their order, with the time of each
 // stage as counters (seconds per run). The reference implementation takes about a minute for this
-// on a 2-core machine (notes §5).
+// on a 2-core machine (notes §5). BM_Trajectories: the six models of Table 1 designed with the
+// paper's settings (theta2 optimized), their trajectories' time and the worst layer's quality.
 #include <benchmark/benchmark.h>
 
 #include <cmath>
 
+#include "gcode/printer_profile.h"
+#include "material/material.h"
 #include "mesh/io.h"
 #include "mesh/subdivide.h"
 #include "methods/shrink_morph/design.h"
 #include "methods/shrink_morph/flatten.h"
+#include "paper_models.h"
+#include "run/print_plan.h"
 #include "toolpath/layer_paths.h"
+#include "toolpath/path_quality.h"
 
 namespace flatmorph {
 namespace {
@@ -76,6 +82,55 @@ void BM_HatPaths10LayersTheta2Varying(benchmark::State& state) {
   run_layers(state, theta2);
 }
 BENCHMARK(BM_HatPaths10LayersTheta2Varying)->Unit(benchmark::kSecond)->Iterations(2);
+
+// Issue 21's bar: t_traj_s <= 10 s at the paper's widths (0.4 mm paths) with, in every layer,
+// spacing within [0.8, 1.25] w on >= 99 % of the path, coverage >= 98.5 %, alignment to theta^k
+// median <= 2 deg and 95th percentile <= 10 deg. The design itself is not timed.
+void BM_Trajectories(benchmark::State& state) {
+  const PaperModel& model = kPaperModels[state.range(0)];
+  const std::filesystem::path path = paper_model_path(model, state);
+  if (path.empty()) return;
+  DesignOptions options;
+  options.material = load_material("pla-paper");
+  options.width_mm = model.width_mm;
+  options.w_D = model.w_D;
+  options.faces = model.faces;
+  const Design design = design_shrink_morph(read_mesh(path).mesh, path.string(), options);
+  const PlateDesign plate =
+      shrink_morph_plate_design(design.flat, design.theta2, options.material, options.layers);
+  const PrinterProfile printer = load_printer("creality-cr10s-pro");  // 300 mm bed: the top fits
+  PrintPlan plan;
+  for (auto _ : state) plan = plan_print(plate, printer, PrintFilesOptions{});
+  const LayerPaths& paths = plan.paths;
+  PathQualityOptions quality_options;
+  quality_options.spacing = printer.nozzle_diameter;
+  quality_options.singular_exclusion_mm = 1.5 * quality_options.spacing;
+  double spacing = 1, coverage = 1, median = 0, p95 = 0;
+  for (int k = 0; k < plate.stack.num_layers(); ++k) {
+    const Eigen::VectorXd theta =
+        layer_direction_vertex(plate.plate, plate.F, plate.stack.layers[k].theta);
+    const PathQuality q =
+        evaluate_path_quality(plate.plate, plate.F, theta, paths.toolpath.layers[k].paths,
+                              paths.layers[k].singular_points, quality_options);
+    spacing = std::min(spacing, q.spacing_in_range);
+    coverage = std::min(coverage, q.covered_area);
+    median = std::max(median, q.angle_median_deg);
+    p95 = std::max(p95, q.angle_p95_deg);
+  }
+  state.counters["t_traj_s"] = plan.seconds;  // paths, order and G-code planning
+  state.counters["t_stripes_s"] = paths.timings.eigenvector;
+  state.counters["refined_faces"] = paths.refined_faces;
+  state.counters["refined_edge_mm"] = paths.refined_mean_edge_mm;
+  state.counters["worst_spacing_in_range"] = spacing;
+  state.counters["worst_coverage"] = coverage;
+  state.counters["worst_angle_median_deg"] = median;
+  state.counters["worst_angle_p95_deg"] = p95;
+}
+BENCHMARK(BM_Trajectories)
+    ->DenseRange(0, 5)
+    ->Unit(benchmark::kSecond)
+    ->Iterations(1)
+    ->UseRealTime();
 
 }  // namespace
 }  // namespace flatmorph

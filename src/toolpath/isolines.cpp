@@ -189,14 +189,22 @@ std::vector<Polyline2> stripe_isolines(const Eigen::MatrixXd& V, const Eigen::Ma
   };
   for (int f = 0; f < F.rows(); ++f) {
     if (!pattern.usable[f]) continue;
-    const Eigen::Vector3d alpha = pattern.corner_phase.row(f);
-    const int k_lo = static_cast<int>(std::floor(alpha.minCoeff() / kTwoPi)) + 1;
-    const int k_hi = static_cast<int>(std::ceil(alpha.maxCoeff() / kTwoPi)) - 1;
+    // The phase along the face's boundary, lifted: corner k at alpha[k], back at corner 0 with
+    // alpha[3], 2 pi stripe_index higher than alpha[0] (a fork: the phase winds around its zero).
+    double alpha[4];
+    for (int k = 0; k < 3; ++k) alpha[k] = pattern.corner_phase(f, k);
+    alpha[3] = alpha[0] + kTwoPi * pattern.stripe_index(f);
+    const double lo = *std::min_element(alpha, alpha + 4), hi = *std::max_element(alpha, alpha + 4);
+    const int k_lo = static_cast<int>(std::floor(lo / kTwoPi)) + 1;
+    const int k_hi = static_cast<int>(std::ceil(hi / kTwoPi)) - 1;
     for (int level = k_lo; level <= k_hi; ++level) {
       const double L = kTwoPi * level;
-      int ends[2], found = 0;
-      for (int k = 0; k < 3 && found < 2; ++k) {
-        const double au = alpha(k), av = alpha((k + 1) % 3);
+      // Crossings in boundary order. Where the phase is linear a level crosses twice or not at
+      // all; at a fork one level crosses once or three times, and one of its crossings is the
+      // end of the branch that stops at the fork.
+      int ends[3], found = 0;
+      for (int k = 0; k < 3; ++k) {
+        const double au = alpha[k], av = alpha[k + 1];
         if (!((au < L && L < av) || (av < L && L < au))) continue;
         const int e = topology.face_edges(f, k);
         const int n = offset[e + 1] - offset[e];
@@ -204,6 +212,12 @@ std::vector<Polyline2> stripe_isolines(const Eigen::MatrixXd& V, const Eigen::Ma
         if (topology.edges(e, 0) != F(f, k)) index = n - 1 - index;
         index = std::clamp(index, 0, n - 1);
         ends[found++] = offset[e] + index;
+      }
+      if (found == 3) {
+        // Join the two closer crossings; the third ends at the fork.
+        const auto length = [&](int a, int b) { return (node.row(a) - node.row(b)).norm(); };
+        if (length(ends[1], ends[2]) < length(ends[0], ends[1])) ends[0] = ends[2];
+        found = 2;
       }
       if (found == 2 && ends[0] != ends[1]) link(ends[0], ends[1]);
     }

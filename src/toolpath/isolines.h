@@ -18,10 +18,12 @@ struct Polyline2 {
 
 // The isolines of `pattern` on the plate (V #V x 2, mm; the mesh the pattern was computed on).
 // Inside a face the stripe phase is linear, so each level 2 pi k between its corner values is one
-// straight segment between two edges: the matching is non-crossing by construction. Crossing points
-// are computed once per edge, so the pieces of neighbouring faces join exactly; faces that are not
-// `usable` (singularities) are skipped, so curves stop cleanly there, and curves end exactly on the
-// plate's boundary edges. Polylines shorter than min_length_mm are dropped. Deterministic order:
+// straight segment between two edges: the matching is non-crossing by construction. In a face
+// where the stripes fork, the curves that pass the fork are joined across the face the same way
+// and the one branch that stops there ends on the face's edge. Crossing points are computed once
+// per edge, so the pieces of neighbouring faces join exactly; faces that are not `usable` (field
+// singularities) are skipped, so curves stop cleanly there, and curves end exactly on the plate's
+// boundary edges. Polylines shorter than min_length_mm are dropped. Deterministic order:
 // by the smallest crossing of each curve.
 std::vector<Polyline2> stripe_isolines(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
                                        const EdgeTopology& topology, const StripePattern& pattern,

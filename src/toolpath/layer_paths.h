@@ -17,9 +17,11 @@ namespace flatmorph {
 struct LayerPathOptions {
   double spacing = 0.4;  // mm between neighbouring paths = the extrusion width
   // The plate is refined until its mean edge is at most this x spacing (the longest edges of a
-  // flattened plate are then about twice as long; the stripe phase may wind more than once
-  // along an edge, which the isoline extraction handles).
-  double edge_ratio = 1.0;
+  // flattened plate are then about twice as long). The stripe phase winds more than once along
+  // such an edge, which the isoline extraction handles; the eigenvector costs about the number of
+  // faces, so this sets the time (docs/toolpaths.md: 2 keeps every quality figure on the paper's
+  // six models and makes the stripes 5 to 20 times faster than 1).
+  double edge_ratio = 2.0;
   double min_path_length = 3.0;  // fragments shorter than this x spacing are dropped
   // Path ends are cut back until they are this many spacings from every other path (at stripe
   // forks the ending branch runs into its neighbour; beads closer than this overlap by more than

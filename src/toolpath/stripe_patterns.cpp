@@ -1,6 +1,8 @@
 #include "toolpath/stripe_patterns.h"
 
 #include <Eigen/SparseCore>
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <complex>
 #include <numbers>
@@ -91,36 +93,83 @@ FieldData field_data(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
 
 // The connection Laplacian E (Knöppel et al. 2015 Eq. 9 in real 2x2 blocks, vertex v at rows 2v,
 // 2v+1): per edge w |psi_j - e^{i omega} psi_i|^2, with conj(psi_i) for edges that cross sheets.
-// Triplets are always emitted in the same order so every field gives the same sparsity pattern.
-Eigen::SparseMatrix<double> connection_laplacian(const EdgeTopology& topology, const FieldData& d,
-                                                 int nv) {
+// Every field has the same sparsity, so the matrix is built once and each field only rewrites its
+// values through the positions kept per edge. Held with a diagonal shift added, the matrix the
+// inverse power iteration factorizes.
+struct ConnectionLaplacian {
+  Eigen::SparseMatrix<double> A;  // E + diag(shift), 2 #V x 2 #V, both triangles stored
+  Eigen::VectorXd shift;          // 2 #V
+  std::vector<int> diagonal;      // per row, the position of its diagonal entry
+  // Per edge, positions in E.valuePtr(): [0..3] the diagonal entries 2i, 2i+1, 2j, 2j+1; [4..11]
+  // block (j, i) row-major (r, q) -> entry (2j + r, 2i + q), then its transpose's entries.
+  std::vector<std::array<int, 12>> slots;
+};
+
+ConnectionLaplacian connection_laplacian_pattern(const EdgeTopology& topology,
+                                                 const Eigen::VectorXd& shift) {
+  const int nv = static_cast<int>(shift.size() / 2);
   std::vector<Eigen::Triplet<double>> t;
-  t.reserve(16 * topology.num_edges());
+  t.reserve(12 * topology.num_edges());
   for (int e = 0; e < topology.num_edges(); ++e) {
     const int i = topology.edges(e, 0), j = topology.edges(e, 1);
-    const double w = d.weight(e), c = std::cos(d.omega(e)), s = std::sin(d.omega(e));
-    // Block (j, i) = -w R(omega): psi_j = e^{i omega} psi_i. Across sheets the phase read in X_j
-    // is the negative of the one read in X_i, so conj(psi_j) = e^{i omega} psi_i and the block is
-    // -w diag(1, -1) R(omega) (notes §5.3: R(-omega) diag(1, -1), the same matrix).
-    Eigen::Matrix2d block;
-    if (d.sign(e) > 0) {
-      block << c, -s, s, c;
-    } else {
-      block << c, -s, -s, -c;
-    }
-    block *= -w;
     for (int r = 0; r < 2; ++r) {
-      t.emplace_back(2 * i + r, 2 * i + r, w);
-      t.emplace_back(2 * j + r, 2 * j + r, w);
+      t.emplace_back(2 * i + r, 2 * i + r, 1.0);
+      t.emplace_back(2 * j + r, 2 * j + r, 1.0);
       for (int q = 0; q < 2; ++q) {
-        t.emplace_back(2 * j + r, 2 * i + q, block(r, q));
-        t.emplace_back(2 * i + q, 2 * j + r, block(r, q));
+        t.emplace_back(2 * j + r, 2 * i + q, 1.0);
+        t.emplace_back(2 * i + q, 2 * j + r, 1.0);
       }
     }
   }
-  Eigen::SparseMatrix<double> E(2 * nv, 2 * nv);
-  E.setFromTriplets(t.begin(), t.end());
-  return E;
+  for (int r = 0; r < 2 * nv; ++r) t.emplace_back(r, r, 1.0);
+  ConnectionLaplacian L;
+  L.shift = shift;
+  L.A.resize(2 * nv, 2 * nv);
+  L.A.setFromTriplets(t.begin(), t.end());
+  L.A.makeCompressed();
+  const auto position = [&](int row, int col) {
+    const int* begin = L.A.innerIndexPtr() + L.A.outerIndexPtr()[col];
+    const int* end = L.A.innerIndexPtr() + L.A.outerIndexPtr()[col + 1];
+    return static_cast<int>(std::lower_bound(begin, end, row) - L.A.innerIndexPtr());
+  };
+  L.diagonal.resize(2 * nv);
+  for (int r = 0; r < 2 * nv; ++r) L.diagonal[r] = position(r, r);
+  L.slots.resize(topology.num_edges());
+  for (int e = 0; e < topology.num_edges(); ++e) {
+    const int i = topology.edges(e, 0), j = topology.edges(e, 1);
+    std::array<int, 12>& s = L.slots[e];
+    s[0] = position(2 * i, 2 * i);
+    s[1] = position(2 * i + 1, 2 * i + 1);
+    s[2] = position(2 * j, 2 * j);
+    s[3] = position(2 * j + 1, 2 * j + 1);
+    for (int r = 0; r < 2; ++r) {
+      for (int q = 0; q < 2; ++q) {
+        s[4 + 2 * r + q] = position(2 * j + r, 2 * i + q);
+        s[8 + 2 * r + q] = position(2 * i + q, 2 * j + r);
+      }
+    }
+  }
+  return L;
+}
+
+void set_connection_laplacian(const FieldData& d, ConnectionLaplacian& L) {
+  double* value = L.A.valuePtr();
+  std::fill(value, value + L.A.nonZeros(), 0.0);
+  for (size_t r = 0; r < L.diagonal.size(); ++r) value[L.diagonal[r]] = L.shift(r);
+  for (size_t e = 0; e < L.slots.size(); ++e) {
+    const std::array<int, 12>& s = L.slots[e];
+    const double w = d.weight(e), c = std::cos(d.omega(e)), sn = std::sin(d.omega(e));
+    // Block (j, i) = -w R(omega): psi_j = e^{i omega} psi_i. Across sheets the phase read in X_j
+    // is the negative of the one read in X_i, so conj(psi_j) = e^{i omega} psi_i and the block is
+    // -w diag(1, -1) R(omega) (notes §5.3: R(-omega) diag(1, -1), the same matrix).
+    const double block[4] = {-w * c, w * sn, d.sign(e) > 0 ? -w * sn : w * sn,
+                             d.sign(e) > 0 ? -w * c : w * c};
+    for (int k = 0; k < 4; ++k) value[s[k]] += w;
+    for (int k = 0; k < 4; ++k) {
+      value[s[4 + k]] += block[k];
+      value[s[8 + k]] += block[k];
+    }
+  }
 }
 
 // The phase data of the converged psi (see StripePattern).
@@ -171,14 +220,18 @@ void stripe_phases(const Eigen::MatrixXi& F, const EdgeTopology& topology, const
     const double closing = alpha[2] + increment[2] - alpha[0];
     p.stripe_index(f) = static_cast<int>(std::lround(closing / kTwoPi));
     for (int k = 0; k < 3; ++k) p.corner_phase(f, k) = alpha[k];
-    if (!consistent || p.doubled_index(f) != 0 || p.stripe_index(f) != 0) continue;
-    // The face must see on each edge as many isoline crossings as the edge itself holds.
+    if (!consistent || p.doubled_index(f) != 0 || std::abs(p.stripe_index(f)) > 1) continue;
+    // The face must see on each edge as many isoline crossings as the edge itself holds (the
+    // boundary phase lifted: back at corner 0 it has wound 2 pi stripe_index).
+    const double lifted_end = alpha[0] + kTwoPi * p.stripe_index(f);
     bool counts_agree = true;
     for (int k = 0; k < 3; ++k) {
       const int e = topology.face_edges(f, k);
       const int i = topology.edges(e, 0);
       const double a = p.vertex_phase(i), b = a + p.edge_phase(e);
-      if (count_levels(alpha[k], alpha[(k + 1) % 3]) != count_levels(a, b)) counts_agree = false;
+      if (count_levels(alpha[k], k < 2 ? alpha[k + 1] : lifted_end) != count_levels(a, b)) {
+        counts_agree = false;
+      }
     }
     p.usable[f] = counts_agree;
   }
@@ -265,12 +318,7 @@ std::vector<StripePattern> stripe_patterns(const Eigen::MatrixXd& V, const Eigen
   const Eigen::VectorXd vertex_mass = lumped_mass(V.leftCols<2>(), F);
   Eigen::VectorXd mass(2 * nv);
   for (int v = 0; v < nv; ++v) mass.segment<2>(2 * v).setConstant(vertex_mass(v));
-  Eigen::SparseMatrix<double> shift(2 * nv, 2 * nv);
-  {
-    std::vector<Eigen::Triplet<double>> t;
-    for (int r = 0; r < 2 * nv; ++r) t.emplace_back(r, r, 1e-6 * nu * nu * mass(r));
-    shift.setFromTriplets(t.begin(), t.end());
-  }
+  ConnectionLaplacian laplacian = connection_laplacian_pattern(topology, 1e-6 * nu * nu * mass);
 
   std::vector<StripePattern> patterns;
   SparseCholesky solver;
@@ -316,8 +364,8 @@ std::vector<StripePattern> stripe_patterns(const Eigen::MatrixXd& V, const Eigen
         x.segment<2>(2 * v) << value.real(), value.imag();
       }
     }
-    const Eigen::SparseMatrix<double> E = connection_laplacian(topology, d, nv);
-    const Eigen::SparseMatrix<double> A = E + shift;
+    set_connection_laplacian(d, laplacian);
+    const Eigen::SparseMatrix<double>& A = laplacian.A;
     if (patterns.empty()) {
       // Minimum degree alone: on these planar meshes it orders several times faster than trying
       // nested dissection as well, for a similar fill.
@@ -334,7 +382,7 @@ std::vector<StripePattern> stripe_patterns(const Eigen::MatrixXd& V, const Eigen
     for (p.iterations = 1; p.iterations <= options.max_iterations; ++p.iterations) {
       const Eigen::VectorXd y = solver.solve(mass.cwiseProduct(x));
       x = y / std::sqrt(y.dot(mass.cwiseProduct(y)));
-      const Eigen::VectorXd Ex = E * x;
+      const Eigen::VectorXd Ex = A * x - laplacian.shift.cwiseProduct(x);
       p.eigenvalue = x.dot(Ex);
       const Eigen::VectorXd r = Ex - p.eigenvalue * mass.cwiseProduct(x);
       p.residual = std::sqrt(r.dot(r.cwiseQuotient(mass))) / (nu * nu);

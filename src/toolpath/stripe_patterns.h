@@ -40,15 +40,19 @@ struct StripePattern {
   // crosses sheets (X_i . X_j < 0), +1 otherwise.
   Eigen::VectorXd edge_phase;
   Eigen::VectorXi edge_sign;
-  // Per face: the stripe phase at the three corners in a sign consistent inside the face; the
-  // phase is linear on the face, so each level 2 pi k between the corner values is one straight
-  // piece of isoline. Meaningful only where usable(f).
+  // Per face: the stripe phase at the three corners in a sign consistent inside the face, each
+  // corner's the previous one's plus the edge's increment; the phase is linear on the face, so
+  // each level 2 pi k between the corner values is one straight piece of isoline. Around a fork the
+  // last edge brings the phase back to corner 0 2 pi stripe_index higher. Meaningful only where
+  // usable(f).
   Eigen::MatrixXd corner_phase;
   Eigen::VectorXi doubled_index;  // line-field singularity (line_field_doubled_index), != 0: skip
   Eigen::VectorXi stripe_index;   // phase winding around the face over 2 pi; != 0: a stripe fork
-  std::vector<bool> usable;       // faces the isolines cross (no singularity of either kind)
-  double eigenvalue = 0;          // Rayleigh quotient psi^T E psi / psi^T M psi, 1/mm^2
-  double residual = 0;            // relative residual when the iteration stopped
+  // Faces the isolines cross: no field singularity, at most a simple fork (|stripe_index| <= 1),
+  // and each edge's crossings the ones the face's corner phases give.
+  std::vector<bool> usable;
+  double eigenvalue = 0;  // Rayleigh quotient psi^T E psi / psi^T M psi, 1/mm^2
+  double residual = 0;    // relative residual when the iteration stopped
   int iterations = 0;
 };
 

@@ -1,10 +1,10 @@
-// Issue 6 acceptance on real designs: the flattened hat (the paper's Hat: hat.obj Loop-subdivided
-// to 11008 faces, plate 100 mm wide, theta2 = 0) and every built-in example (plate ~100 mm).
-// Per layer: (a) >= 95 % of path samples have their nearest neighbour path at 0.8 to 1.25
-// spacings, (b) >= 98 % of the plate within 0.6 spacings of a path, (c) no path point outside the
-// plate, (d) path tangents within a median of 2 deg and a 95th percentile of 10 deg of theta^k
-// (one spacing around singular points excluded); on the hat, travel >= 15 % shorter than greedy
-// nearest neighbour.
+// Issue 6 acceptance on real designs, with issue 21's bar: the flattened hat (the paper's Hat:
+// hat.obj Loop-subdivided to 11008 faces, plate 100 mm wide, theta2 = 0) and every built-in
+// example (plate ~100 mm). Per layer: (a) >= 99 % of path samples have their nearest neighbour
+// path at 0.8 to 1.25 spacings, (b) >= 98.5 % of the plate within 0.6 spacings of a path, (c) no
+// path point outside the plate, (d) path tangents within a median of 2 deg and a 95th percentile of
+// 10 deg of theta^k (one spacing around singular points excluded); on the hat, travel >= 15 %
+// shorter than greedy nearest neighbour.
 #include <gtest/gtest.h>
 
 #include <iostream>
@@ -50,8 +50,8 @@ DesignResult check_design(const Mesh& target, const LayerPathOptions& options, i
               << q.points_outside << ", angle median " << q.angle_median_deg << " p95 "
               << q.angle_p95_deg << ", travel " << report.travel_mm << " (greedy "
               << report.travel_greedy_mm << ")\n";
-    EXPECT_GE(q.spacing_in_range, 0.95) << "layer " << k;
-    EXPECT_GE(q.covered_area, 0.98) << "layer " << k;
+    EXPECT_GE(q.spacing_in_range, 0.99) << "layer " << k;
+    EXPECT_GE(q.covered_area, 0.985) << "layer " << k;
     EXPECT_EQ(q.points_outside, 0) << "layer " << k;
     EXPECT_LT(q.angle_median_deg, 2.0) << "layer " << k;
     EXPECT_LT(q.angle_p95_deg, 10.0) << "layer " << k;

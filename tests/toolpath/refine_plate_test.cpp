@@ -1,4 +1,5 @@
-// Linear 1-to-4 refinement of a plate: exact geometry, halved edges, interpolation matrix.
+// Linear refinement of a plate (every edge cut into n): exact geometry, edges divided by n,
+// interpolation matrix.
 #include "toolpath/refine_plate.h"
 
 #include <gtest/gtest.h>
@@ -14,7 +15,8 @@ namespace {
 TEST(RefinePlate, KeepsTheOutlineAndAreaExactly) {
   const testing::TestPlate plate = testing::disk_plate(20, 3.0);
   const RefinedPlate r = refine_plate(plate.V, plate.F, 1.0);
-  EXPECT_EQ(r.F.rows(), plate.F.rows() << (2 * r.levels));
+  ASSERT_GE(r.splits, 3);  // not a power of two: the general lattice
+  EXPECT_EQ(r.F.rows(), plate.F.rows() * r.splits * r.splits);
   const Eigen::VectorXd coarse_area = face_areas(plate.V, plate.F);
   const Eigen::VectorXd fine_area = face_areas(r.V, r.F);
   EXPECT_GT(fine_area.minCoeff(), 0);  // still counter-clockwise
@@ -23,11 +25,19 @@ TEST(RefinePlate, KeepsTheOutlineAndAreaExactly) {
   Eigen::VectorXd by_parent = Eigen::VectorXd::Zero(plate.F.rows());
   for (int f = 0; f < r.F.rows(); ++f) by_parent(r.face_parent(f)) += fine_area(f);
   EXPECT_LT((by_parent - coarse_area).cwiseAbs().maxCoeff(), 1e-12);
-  // Edges: halved exactly at each level; the mean no longer than asked.
+  // Edges: divided by n exactly; the mean no longer than asked, and n the smallest that does it.
   EXPECT_LE(mean_edge(r.V, r.F), 1.0);
-  EXPECT_GT(mean_edge(r.V, r.F), 0.5);
-  EXPECT_NEAR(mean_edge(r.V, r.F) * (1 << r.levels), mean_edge(plate.V, plate.F), 1e-12);
-  EXPECT_NEAR(longest_edge(r.V, r.F) * (1 << r.levels), longest_edge(plate.V, plate.F), 1e-12);
+  EXPECT_GT(mean_edge(r.V, r.F) * r.splits / (r.splits - 1), 1.0);
+  EXPECT_NEAR(mean_edge(r.V, r.F) * r.splits, mean_edge(plate.V, plate.F), 1e-12);
+  EXPECT_NEAR(longest_edge(r.V, r.F) * r.splits, longest_edge(plate.V, plate.F), 1e-12);
+  // A manifold disk: every interior edge has two faces, so no lattice point was made twice.
+  const EdgeTopology fine_topology = edge_topology(r.F);
+  EXPECT_EQ(r.V.rows() - fine_topology.num_edges() + r.F.rows(), 1);  // Euler characteristic
+  Eigen::VectorXi used = Eigen::VectorXi::Zero(r.V.rows());
+  for (int f = 0; f < r.F.rows(); ++f) {
+    for (int k = 0; k < 3; ++k) used(r.F(f, k)) = 1;
+  }
+  EXPECT_EQ(used.sum(), r.V.rows());
   // The boundary is the same polygon: every fine boundary vertex lies on a coarse boundary edge.
   const auto coarse_loops = boundary_loops(plate.F);
   const auto fine_loops = boundary_loops(r.F);
@@ -48,7 +58,7 @@ TEST(RefinePlate, KeepsTheOutlineAndAreaExactly) {
 TEST(RefinePlate, InterpolationMatrixIsExactForLinearFields) {
   const testing::TestPlate plate = testing::rectangle_plate(10, 6, 2.0);
   const RefinedPlate r = refine_plate(plate.V, plate.F, 0.6);
-  ASSERT_GE(r.levels, 2);
+  ASSERT_GE(r.splits, 4);
   EXPECT_LT((r.S * plate.V - r.V).cwiseAbs().maxCoeff(), 1e-12);
   const Eigen::VectorXd linear =
       3 * plate.V.col(0) - 2 * plate.V.col(1) + Eigen::VectorXd::Ones(plate.V.rows());
@@ -64,7 +74,7 @@ TEST(RefinePlate, InterpolationMatrixIsExactForLinearFields) {
 TEST(RefinePlate, NoSplitWhenEdgesAreShortEnough) {
   const testing::TestPlate plate = testing::rectangle_plate(4, 4, 1.0);
   const RefinedPlate r = refine_plate(plate.V, plate.F, 2.0);
-  EXPECT_EQ(r.levels, 0);
+  EXPECT_EQ(r.splits, 1);
   EXPECT_EQ(r.F, plate.F);
 }
 

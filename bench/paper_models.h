@@ -1,0 +1,43 @@
+// The paper's six models with Shrink & Morph Table 1's settings and figures, for the benchmarks
+// that measure against them.
+#pragma once
+
+#include <benchmark/benchmark.h>
+
+#include <filesystem>
+#include <string>
+
+namespace flatmorph {
+
+struct PaperModel {
+  const char* name;
+  int faces;
+  double width_mm;
+  double w_D;
+  // Which side is printed on top: the one design_shrink_morph chooses (docs/design.md, Table 1).
+  bool flip;
+  double paper_sim_avg, paper_sim_max;      // Table 1, "Dist. to sim."
+  double paper_optim_avg, paper_optim_max;  // Table 1, "Dist. to optim."
+  double paper_total_s;                     // Table 1, t_param + t_optim (6-core Xeon)
+};
+
+inline constexpr PaperModel kPaperModels[] = {
+    {"hemisphere-big", 17152, 150, 0.1, false, 3.36, 10.28, 0.25, 3.02, 147},
+    {"saddle", 2048, 100, 0.0, true, 2.20, 6.05, 0.47, 2.15, 4},
+    {"beetle", 8448, 200, 0.0, true, 5.41, 16.23, 0.34, 1.41, 123},
+    {"face", 3996, 200, 0.1, false, 2.81, 12.56, 0.36, 2.04, 50},
+    {"top", 3584, 250, 0.0, true, 5.85, 45.62, 0.24, 2.95, 62},
+    {"hat", 11008, 100, 0.1, false, 1.34, 9.31, 0.30, 1.18, 73},
+};
+
+// The model's file in ../shared/meshes; empty (and the benchmark skipped) when it is missing.
+inline std::filesystem::path paper_model_path(const PaperModel& model, benchmark::State& state) {
+  state.SetLabel(model.name);
+  const std::filesystem::path path =
+      std::filesystem::path(FLATMORPH_SHARED_DIR) / "meshes" / (std::string(model.name) + ".obj");
+  if (std::filesystem::exists(path)) return path;
+  state.SkipWithError("../shared/meshes is not beside the project");
+  return {};
+}
+
+}  // namespace flatmorph
