@@ -7,6 +7,9 @@
 #include <filesystem>
 #include <string>
 
+#include "material/material.h"
+#include "methods/shrink_morph/design.h"
+
 namespace flatmorph {
 
 struct PaperModel {
@@ -38,6 +41,17 @@ inline std::filesystem::path paper_model_path(const PaperModel& model, benchmark
   if (std::filesystem::exists(path)) return path;
   state.SkipWithError("../shared/meshes is not beside the project");
   return {};
+}
+
+// The design options of Table 1 for `model`: the paper's PLA, width, w_D and face count; the
+// printed side and the initial stretch chosen automatically, as `design` does.
+inline DesignOptions paper_design_options(const PaperModel& model) {
+  DesignOptions options;
+  options.material = load_material("pla-paper");
+  options.width_mm = model.width_mm;
+  options.w_D = model.w_D;
+  options.faces = model.faces;
+  return options;
 }
 
 }  // namespace flatmorph

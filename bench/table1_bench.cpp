@@ -59,11 +59,7 @@ void BM_Table1(benchmark::State& state) {
   const PaperModel& model = kPaperModels[state.range(0)];
   const std::filesystem::path path = paper_model_path(model, state);
   if (path.empty()) return;
-  DesignOptions options;
-  options.material = load_material("pla-paper");
-  options.width_mm = model.width_mm;
-  options.w_D = model.w_D;
-  options.faces = model.faces;  // the printed side is chosen automatically, as `design` does
+  const DesignOptions options = paper_design_options(model);
   for (auto _ : state) {
     Mesh mesh = read_mesh(path).mesh;
     const auto t0 = std::chrono::steady_clock::now();

@@ -90,11 +90,7 @@ void BM_Trajectories(benchmark::State& state) {
   const PaperModel& model = kPaperModels[state.range(0)];
   const std::filesystem::path path = paper_model_path(model, state);
   if (path.empty()) return;
-  DesignOptions options;
-  options.material = load_material("pla-paper");
-  options.width_mm = model.width_mm;
-  options.w_D = model.w_D;
-  options.faces = model.faces;
+  const DesignOptions options = paper_design_options(model);
   const Design design = design_shrink_morph(read_mesh(path).mesh, path.string(), options);
   const PlateDesign plate =
       shrink_morph_plate_design(design.flat, design.theta2, options.material, options.layers);
