@@ -80,13 +80,13 @@ Eigen::VectorXd layer_direction_vertex(const Eigen::MatrixXd& plate, const Eigen
 
 // The paths of every layer of the stack (plate/layer_stack.h; the stack decides each layer's
 // direction, bead height and tool) for a flat plate (plate #V x 2 or x 3 with z ignored, mm, faces
-// counter-clockwise): refines the plate (linear 1-to-4 splits), carries each layer's direction
-// field onto it as a line field, computes one stripe pattern per layer (warm-started), extracts
-// and chains its isolines, drops short fragments, simplifies, and orders them (order_paths,
-// starting layer 1 at the plate's lower-left bounding-box corner and each next layer where the
-// previous one ended; perimeter loops, when asked for, come first, outermost first, each from
-// its point nearest to where the head is). Layer k's paths lie at z = the sum of the printed
-// thicknesses of layers 1..k, and every segment extrudes with width = spacing, the layer's
+// counter-clockwise): refines the plate (every edge cut into n, refine_plate.h), carries each
+// layer's direction field onto it as a line field, computes one stripe pattern per layer
+// (warm-started), extracts and chains its isolines, drops short fragments, simplifies, and orders
+// them (order_paths, starting layer 1 at the plate's lower-left bounding-box corner and each next
+// layer where the previous one ended; perimeter loops, when asked for, come first, outermost first,
+// each from its point nearest to where the head is). Layer k's paths lie at z = the sum of the
+// printed thicknesses of layers 1..k, and every segment extrudes with width = spacing, the layer's
 // thickness, feed_rate and the layer's material index as its tool. Deterministic. Throws
 // UserError(kOption) for inconsistent sizes, out-of-range options, or a layer whose material or
 // thickness varies over the plate or that leaves faces uncovered (the stripe patterns trace whole,
