@@ -156,7 +156,7 @@ void BM_PlateHessianFactorization(benchmark::State& state) {
   for (int k = 0; k < h.outerSize(); ++k) h.coeffRef(k, k) += 1e-8 * h.coeff(k, k);
   SparseCholesky solver;
   solver.cholmod().print = 0;
-  solver.analyzePattern(h);
+  analyze_pattern(solver, h);
   for (auto _ : state) {
     factorize(solver, h);
     benchmark::DoNotOptimize(solver.info());

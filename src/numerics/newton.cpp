@@ -212,7 +212,7 @@ NewtonResult minimize(const NewtonProblem& problem, const Eigen::VectorXd& x0,
     }
     const Eigen::SparseMatrix<double>& h = state.reduced->update(full);
     if (!state.analyzed) {
-      solver.analyzePattern(h);
+      analyze_pattern(solver, h);
       state.analyzed = true;
     }
     solver.setShift(shift);

@@ -2,6 +2,8 @@
 
 #include <omp.h>
 
+#include <mutex>
+
 namespace flatmorph {
 
 void configure_sparse_cholesky(SparseCholesky& solver) {
@@ -11,6 +13,12 @@ void configure_sparse_cholesky(SparseCholesky& solver) {
   c.method[0].ordering = CHOLMOD_AMD;
   c.method[1].ordering = CHOLMOD_METIS;
   c.postorder = 1;
+}
+
+void analyze_pattern(SparseCholesky& solver, const Eigen::SparseMatrix<double>& a) {
+  static std::mutex metis;  // guards the process-wide state of a library, not of this project
+  const std::lock_guard<std::mutex> lock(metis);
+  solver.analyzePattern(a);
 }
 
 void factorize(SparseCholesky& solver, const Eigen::SparseMatrix<double>& a) {

@@ -16,6 +16,12 @@ using SparseCholesky = Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, 
 // ordering is computed once per sparsity pattern, so trying both costs one extra analysis.
 void configure_sparse_cholesky(SparseCholesky& solver);
 
+// The symbolic analysis (fill-reducing ordering) of a's pattern. One at a time in the process:
+// METIS, one of the orderings CHOLMOD tries, draws from a random generator the whole process
+// shares, so two analyses at once (the design runs independent problems on both cores) would
+// order, and round, differently from run to run.
+void analyze_pattern(SparseCholesky& solver, const Eigen::SparseMatrix<double>& a);
+
 // solver.factorize(a) with CHOLMOD's own OpenMP regions run by the calling thread alone. Debian's
 // CHOLMOD 3 copies every large supernode into the factor with 4 OpenMP threads, a number fixed
 // when it was compiled; on a 2-core machine whose cores TBB and BLAS threads already use, those

@@ -371,7 +371,7 @@ std::vector<StripePattern> stripe_patterns(const Eigen::MatrixXd& V, const Eigen
       // nested dissection as well, for a similar fill.
       solver.cholmod().nmethods = 1;
       solver.cholmod().method[0].ordering = CHOLMOD_AMD;
-      solver.analyzePattern(A);
+      analyze_pattern(solver, A);
     }
     factorize(solver, A);
     if (solver.info() != Eigen::Success) {

@@ -143,7 +143,7 @@ class Theta2Solver {
     double* values = hessian_.valuePtr();
     for (const auto& [k, diagonal] : fixed_entries_) values[k] = diagonal ? 1.0 : 0.0;
     if (!analyzed_) {
-      solver_.analyzePattern(hessian_);
+      analyze_pattern(solver_, hessian_);
       analyzed_ = true;
     }
     solver_.setShift(0.0);
