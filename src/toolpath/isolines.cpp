@@ -11,12 +11,6 @@ namespace {
 
 constexpr double kTwoPi = 2 * std::numbers::pi;
 
-int count_levels(double a, double b) {
-  const double lo = std::min(a, b), hi = std::max(a, b);
-  const double n = std::floor(hi / kTwoPi) - std::ceil(lo / kTwoPi) + 1;
-  return n > 0 ? static_cast<int>(n) : 0;
-}
-
 double segment_distance(const Eigen::Vector2d& p, const Eigen::Vector2d& a,
                         const Eigen::Vector2d& b) {
   const Eigen::Vector2d ab = b - a;
@@ -165,7 +159,7 @@ std::vector<Polyline2> stripe_isolines(const Eigen::MatrixXd& V, const Eigen::Ma
   std::vector<int> offset(ne + 1, 0);
   for (int e = 0; e < ne; ++e) {
     const double a = pattern.vertex_phase(topology.edges(e, 0));
-    offset[e + 1] = offset[e] + count_levels(a, a + pattern.edge_phase(e));
+    offset[e + 1] = offset[e] + count_phase_levels(a, a + pattern.edge_phase(e));
   }
   const int num_nodes = offset[ne];
   Eigen::MatrixX2d node(num_nodes, 2);

@@ -22,13 +22,6 @@ constexpr double kPhaseNudge = 1e-9;
 // x wrapped to [-pi, pi).
 double wrap_angle(double x) { return x - kTwoPi * std::floor((x + std::numbers::pi) / kTwoPi); }
 
-// Number of levels 2 pi k strictly between a and b.
-int count_levels(double a, double b) {
-  const double lo = std::min(a, b), hi = std::max(a, b);
-  const double n = std::floor(hi / kTwoPi) - std::ceil(lo / kTwoPi) + 1;
-  return n > 0 ? static_cast<int>(n) : 0;
-}
-
 // X_v, the unit vector at theta_v + pi/2: the square root of z_v = -e^{2 i theta_v} taken as
 // e^{i arg(z_v) / 2}, arg in (-pi, pi] (the sign choice only decides which edges cross sheets).
 Eigen::MatrixXd phase_directions(const Eigen::VectorXd& theta) {
@@ -100,7 +93,7 @@ struct ConnectionLaplacian {
   Eigen::SparseMatrix<double> A;  // E + diag(shift), 2 #V x 2 #V, both triangles stored
   Eigen::VectorXd shift;          // 2 #V
   std::vector<int> diagonal;      // per row, the position of its diagonal entry
-  // Per edge, positions in E.valuePtr(): [0..3] the diagonal entries 2i, 2i+1, 2j, 2j+1; [4..11]
+  // Per edge, positions in A.valuePtr(): [0..3] the diagonal entries 2i, 2i+1, 2j, 2j+1; [4..11]
   // block (j, i) row-major (r, q) -> entry (2j + r, 2i + q), then its transpose's entries.
   std::vector<std::array<int, 12>> slots;
 };
@@ -229,7 +222,8 @@ void stripe_phases(const Eigen::MatrixXi& F, const EdgeTopology& topology, const
       const int e = topology.face_edges(f, k);
       const int i = topology.edges(e, 0);
       const double a = p.vertex_phase(i), b = a + p.edge_phase(e);
-      if (count_levels(alpha[k], k < 2 ? alpha[k + 1] : lifted_end) != count_levels(a, b)) {
+      if (count_phase_levels(alpha[k], k < 2 ? alpha[k + 1] : lifted_end) !=
+          count_phase_levels(a, b)) {
         counts_agree = false;
       }
     }
@@ -307,6 +301,12 @@ Eigen::VectorXd integrate_one_form(const SpanningTree& tree, const EdgeTopology&
 }
 
 }  // namespace
+
+int count_phase_levels(double a, double b) {
+  const double lo = std::min(a, b), hi = std::max(a, b);
+  const double n = std::floor(hi / kTwoPi) - std::ceil(lo / kTwoPi) + 1;
+  return n > 0 ? static_cast<int>(n) : 0;
+}
 
 std::vector<StripePattern> stripe_patterns(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
                                            const EdgeTopology& topology,

@@ -56,6 +56,11 @@ struct StripePattern {
   int iterations = 0;
 };
 
+// Number of isoline levels 2 pi k strictly between the phases a and b (rad): the crossings of a
+// stretch of boundary whose phase runs from a to b. The extraction and the check of which faces it
+// may trace count them the same way.
+int count_phase_levels(double a, double b);
+
 // Stripe patterns of a sequence of line fields on the same plate (one per printed layer): theta
 // per vertex (rad, from +x, CCW). Each pattern is the smallest eigenvector of the connection
 // Laplacian E of its field (Knöppel et al. 2015 §5: cotan weights, faces with a field singularity

@@ -11,48 +11,33 @@
 
 #include <string>
 
-#include "material/material.h"
 #include "mesh/io.h"
 #include "methods/shrink_morph/design.h"
+#include "methods/shrink_morph/paper_table1.h"
 #include "test_support.h"
 
 namespace flatmorph {
 namespace {
 
-struct PaperRow {
-  const char* name;
-  int faces;
-  double width_mm;
-  double w_D;
-  double paper_avg, paper_max;  // Table 1, "Dist. to optim."
-};
-
-class Table1 : public ::testing::TestWithParam<PaperRow> {};
+class Table1 : public ::testing::TestWithParam<const char*> {};
 
 TEST_P(Table1, EndsWithinOneAndAHalfTimesThePaper) {
-  const PaperRow& row = GetParam();
+  const testing::PaperModel& model = testing::paper_model(GetParam());
   const std::filesystem::path path =
-      testing::shared_dir() / "meshes" / (std::string(row.name) + ".obj");
-  DesignOptions options;
-  options.material = load_material("pla-paper");
-  options.width_mm = row.width_mm;
-  options.w_D = row.w_D;
-  options.faces = row.faces;
-  const Design d = design_shrink_morph(read_mesh(path).mesh, path.string(), options);
+      testing::shared_dir() / "meshes" / (std::string(model.name) + ".obj");
+  const Design d = design_shrink_morph(read_mesh(path).mesh, path.string(),
+                                       testing::paper_design_options(model));
   const DesignMetrics& m = d.metrics;
-  EXPECT_LE(m.dist_to_optim_avg_pct, 1.5 * row.paper_avg);
-  EXPECT_LE(m.dist_to_optim_max_pct, 1.5 * row.paper_max);
+  EXPECT_LE(m.dist_to_optim_avg_pct, 1.5 * model.paper_optim_avg);
+  EXPECT_LE(m.dist_to_optim_max_pct, 1.5 * model.paper_optim_max);
   EXPECT_LT(m.dist_to_optim_avg_pct, m.dist_to_sim_avg_pct);
   EXPECT_LT(m.dist_to_optim_max_pct, m.dist_to_sim_max_pct);
 }
 
 INSTANTIATE_TEST_SUITE_P(Paper, Table1,
-                         ::testing::Values(PaperRow{"hemisphere-big", 17152, 150, 0.1, 0.25, 3.02},
-                                           PaperRow{"saddle", 2048, 100, 0.0, 0.47, 2.15},
-                                           PaperRow{"beetle", 8448, 200, 0.0, 0.34, 1.41},
-                                           PaperRow{"top", 3584, 250, 0.0, 0.24, 2.95}),
-                         [](const ::testing::TestParamInfo<PaperRow>& info) {
-                           std::string name = info.param.name;
+                         ::testing::Values("hemisphere-big", "saddle", "beetle", "top"),
+                         [](const ::testing::TestParamInfo<const char*>& info) {
+                           std::string name = info.param;
                            for (char& c : name) {
                              if (c == '-') c = '_';
                            }
