@@ -48,15 +48,16 @@ void require(bool ok, const std::string& message) {
   if (!ok) throw UserError(ErrorCategory::kOption, message);
 }
 
-// --stretch: auto (-1) or an initial stretch index.
+// --stretch: auto, all or an initial stretch index.
 int parse_stretch(const std::string& stretch) {
-  if (stretch == "auto") return -1;
+  if (stretch == "auto") return kAutomaticStretch;
+  if (stretch == "all") return kEveryStretch;
   for (int k = 0; k < kStretchCandidates; ++k) {
     if (stretch == std::to_string(k)) return k;
   }
   throw UserError(ErrorCategory::kOption,
-                  fmt::format("--stretch {}: give auto or an initial stretch from 0 to {}", stretch,
-                              kStretchCandidates - 1));
+                  fmt::format("--stretch {}: give auto, all or an initial stretch from 0 to {}",
+                              stretch, kStretchCandidates - 1));
 }
 
 // Checked before anything is read or written, so that a bad value leaves no output behind.
@@ -130,6 +131,7 @@ nlohmann::ordered_json metrics_json(const DesignMetrics& m) {
   j["theta2_max_abs_rad"] = m.theta2_max_abs_rad;
   j["theta2_dirichlet"] = m.theta2_dirichlet;
   j["optim_iterations"] = m.optim_iterations;
+  j["optim_objective"] = m.optim_objective;
   j["optim_converged"] = m.optim_converged;
   j["coarse_faces"] = m.coarse_faces;
   j["first_pass_iterations"] = m.first_pass_iterations;
@@ -202,6 +204,18 @@ int run_design(DesignCliOptions& o, const GlobalOptions& global) {
   j["normal_side_down"] = design.flipped;
   j["side_agreement"] = design.side_agreement;
   j["stretch_candidate"] = design.flat.stretch_candidate;
+  if (!design.explored.empty()) {
+    nlohmann::ordered_json explored = nlohmann::ordered_json::array();
+    for (const StretchOutcome& e : design.explored) {
+      explored.push_back({{"stretch_candidate", e.stretch_candidate},
+                          {"normal_side_down", e.flipped},
+                          {"optim_objective", e.objective},
+                          {"dist_to_optim_avg_pct", e.dist_to_optim_avg_pct},
+                          {"dist_to_optim_max_pct", e.dist_to_optim_max_pct},
+                          {"optim_iterations", e.optim_iterations}});
+    }
+    j["explored_stretches"] = explored;
+  }
   j["material"] = {{"name", material.name},
                    {"lambda1", material.lambda1},
                    {"lambda2", material.lambda2},
@@ -317,9 +331,11 @@ Command make_design_command(CLI::App& app, const GlobalOptions& global) {
   sub->add_option("--stretch", o->stretch,
                   "Which of the 4 initial stretches (45 degrees apart) the flattening starts from: "
                   "auto (the one whose print directions follow the target's curvature, see "
-                  "docs/design.md) or 0 to 3. The flattening has several local minima, and the "
-                  "theta2 design can land closer from another one; design.json records the one "
-                  "used as stretch_candidate")
+                  "docs/design.md), 0 to 3, or all: design from each, side by side on the cores "
+                  "there are, and keep the one with the lowest final objective (about twice the "
+                  "time on 2 cores). The flattening has several local minima, and the theta2 "
+                  "design can land closer from another one; design.json records the one used as "
+                  "stretch_candidate (and with all, each one's result as explored_stretches)")
       ->capture_default_str();
   sub->add_flag("!--no-gcode", o->gcode, "Skip trajectories and G-code");
   sub->add_flag("--json", o->json,

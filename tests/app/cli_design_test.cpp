@@ -67,6 +67,26 @@ TEST(CliDesign, WritesThePlateTheShapesAndTheMetrics) {
   EXPECT_EQ(json_run.out.find("optimize theta2"), std::string::npos) << json_run.out;
   EXPECT_EQ(summary.at("stretch_candidate").get<int>(), other_stretch);
   EXPECT_EQ(summary.at("stretch").get<std::string>(), std::to_string(other_stretch));
+
+  // --stretch all: every stretch's result in design.json, the lowest objective's plate kept.
+  const fs::path dir3 = testing::scratch_dir() / "out3";
+  const auto all_run = run_cli({"design", "--example", "dome", "--width", "60", "--faces", "1",
+                                "--no-gcode", "--json", "--stretch", "all", "-o", dir3.string()});
+  ASSERT_EQ(all_run.exit_code, 0) << all_run.err;
+  const nlohmann::json all = nlohmann::json::parse(all_run.out);
+  const nlohmann::json& explored = all.at("explored_stretches");
+  ASSERT_EQ(explored.size(), 4u);
+  int lowest = 0;
+  for (int k = 0; k < 4; ++k) {
+    EXPECT_EQ(explored[k].at("stretch_candidate").get<int>(), k);
+    if (explored[k].at("optim_objective").get<double>() <
+        explored[lowest].at("optim_objective").get<double>()) {
+      lowest = k;
+    }
+  }
+  EXPECT_EQ(all.at("stretch_candidate").get<int>(), lowest);
+  EXPECT_EQ(all.at("metrics").at("optim_objective").get<double>(),
+            explored[lowest].at("optim_objective").get<double>());
 }
 
 TEST(CliDesign, BadOptionsExit2AndWriteNothing) {

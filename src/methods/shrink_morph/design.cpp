@@ -1,9 +1,11 @@
 #include "methods/shrink_morph/design.h"
 
 #include <fmt/core.h>
+#include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
 
 #include <Eigen/LU>
+#include <array>
 #include <cmath>
 #include <optional>
 
@@ -132,13 +134,64 @@ const char* side_name(bool normal_side_down) {
   return normal_side_down ? "normal side down" : "normal side up";
 }
 
+// kEveryStretch: a whole design from each initial stretch, side by side, the lowest final E kept.
+// E is comparable between them: the same target, the same normalization.
+Design design_from_every_stretch(const Mesh& target, const std::string& source,
+                                 const DesignOptions& options) {
+  report_progress(options.progress,
+                  {"explore", 0, kStretchCandidates, NAN,
+                   fmt::format("designing from each of the {} initial stretches side by side",
+                               kStretchCandidates)});
+  const auto t0 = Clock::now();
+  std::array<Design, kStretchCandidates> designs;
+  std::array<double, kStretchCandidates> seconds{};
+  tbb::parallel_for(0, kStretchCandidates, [&](int k) {
+    const auto start = Clock::now();
+    DesignOptions one = options;
+    one.stretch_candidate = k;
+    one.progress = nullptr;
+    one.optimize.progress = nullptr;
+    designs[k] = design_shrink_morph(target, source, one);
+    seconds[k] = seconds_since(start);
+  });
+  const double wall = seconds_since(t0);
+  int kept = 0;
+  std::vector<StretchOutcome> explored;
+  for (int k = 0; k < kStretchCandidates; ++k) {
+    const Design& d = designs[k];
+    explored.push_back({k, d.flipped, d.optimization.objective, d.metrics.dist_to_optim_avg_pct,
+                        d.metrics.dist_to_optim_max_pct, d.metrics.optim_iterations, seconds[k]});
+    report_progress(
+        options.progress,
+        {"explore", k + 1, kStretchCandidates, d.optimization.objective,
+         fmt::format("stretch {}, {}: E = {:.4g}, {:.3f} % / {:.3f} % (avg / max)", k,
+                     side_name(d.flipped), d.optimization.objective,
+                     d.metrics.dist_to_optim_avg_pct, d.metrics.dist_to_optim_max_pct)});
+    if (d.optimization.objective < designs[kept].optimization.objective) kept = k;
+  }
+  Design out = std::move(designs[kept]);
+  out.explored = std::move(explored);
+  out.metrics.t_optim_s = wall - out.metrics.t_prepare_s - out.metrics.t_param_s;
+  report_progress(options.progress,
+                  {"explore", kStretchCandidates, kStretchCandidates, out.optimization.objective,
+                   fmt::format("kept stretch {} (lowest E); {:.1f} s for all", kept, wall)});
+  return out;
+}
+
 }  // namespace
 
 Design design_shrink_morph(Mesh target, const std::string& source, const DesignOptions& options) {
-  if (!(options.width_mm > 0) || !(options.w_D >= 0) || options.faces < 1 || options.layers < 2) {
+  if (!(options.width_mm > 0) || !(options.w_D >= 0) || options.faces < 1 || options.layers < 2 ||
+      options.stretch_candidate < kEveryStretch ||
+      options.stretch_candidate >= kStretchCandidates) {
     throw UserError(ErrorCategory::kOption,
-                    "design: the width must be positive, w_D non-negative, the face count at least "
-                    "1 and the layer count at least 2");
+                    fmt::format("design: the width must be positive, w_D non-negative, the face "
+                                "count at least 1, the layer count at least 2 and the stretch "
+                                "automatic, every one or 0 to {}",
+                                kStretchCandidates - 1));
+  }
+  if (options.stretch_candidate == kEveryStretch) {
+    return design_from_every_stretch(target, source, options);
   }
   auto progress = [&](const std::string& stage, const std::string& detail) {
     report_progress(options.progress, {stage, 0, 0, NAN, detail});
@@ -368,6 +421,7 @@ Design design_shrink_morph(Mesh target, const std::string& source, const DesignO
   m.theta2_max_abs_rad = out.theta2.size() ? out.theta2.cwiseAbs().maxCoeff() : 0.0;
   m.theta2_dirichlet = out.theta2.dot(cotan_laplacian(problem.target, problem.F) * out.theta2);
   m.optim_iterations = out.optimization.iterations;
+  m.optim_objective = out.optimization.objective;
   m.optim_converged = out.optimization.converged;
   progress("optimize theta2",
            fmt::format("{} iterations ({}), distance to target {:.3f} % -> {:.3f} % average, "

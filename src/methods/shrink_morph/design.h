@@ -7,6 +7,7 @@
 #include <Eigen/Core>
 #include <functional>
 #include <string>
+#include <vector>
 
 #include "common/progress.h"
 #include "material/material.h"
@@ -24,14 +25,20 @@ enum class PrintedSide {
   kNormalDown,  // ... on the bed (flatten.h's `flip`)
 };
 
+inline constexpr int kAutomaticStretch = -1;
+// The flattening has several local minima, and which one the theta2 design lands closest from is
+// told by no cheap measure (docs/design.md): only the design's own E ranks them.
+inline constexpr int kEveryStretch = -2;
+
 struct DesignOptions {
   double width_mm = 100.0;  // the plate's largest extent, mm
   double w_D = 0.0;         // Eq. 12 smoothing weight (dimensionless)
   // Which side of the target is printed on top: chosen by printed_side_agreement when automatic.
   PrintedSide side = PrintedSide::kAutomatic;
-  // The flattening's initial stretch (FlattenOptions::stretch_candidate, 0 to 3, 45° apart), or -1
-  // to choose it by the target's curvature (choose_initial_stretch).
-  int stretch_candidate = -1;
+  // The flattening's initial stretch (FlattenOptions::stretch_candidate, 0 to 3, 45° apart),
+  // kAutomaticStretch to choose it by the target's curvature (choose_initial_stretch), or
+  // kEveryStretch to design from each of them and keep the lowest final objective E.
+  int stretch_candidate = kAutomaticStretch;
   int faces = 10000;  // Loop-subdivide the target until it has at least this many faces
   int layers = 10;    // printed layers of material.layer_height mm: h = layers * height
   Material material;
@@ -66,12 +73,23 @@ struct DesignMetrics {
   double theta2_max_abs_rad = 0;
   double theta2_dirichlet = 0;  // θ2ᵀ L θ2 on the target (dimensionless)
   int optim_iterations = 0;
+  double optim_objective = 0;  // E (Eq. 13, normalized as in optimize_theta2.h) at the end
   // The first pass (both sides designed when the curvature does not tell the printed side): the
   // faces of its level one Loop step coarser (0 when there is none and it ran on the design
   // level) and the kept side's theta2 iterations there (0 when it did not run).
   int coarse_faces = 0;
   int first_pass_iterations = 0;
   bool optim_converged = false;
+};
+
+// One design of a kEveryStretch run (the kept one among them).
+struct StretchOutcome {
+  int stretch_candidate = 0;
+  bool flipped = false;
+  double objective = 0;  // the design level's final E
+  double dist_to_optim_avg_pct = 0, dist_to_optim_max_pct = 0;
+  int optim_iterations = 0;
+  double seconds = 0;  // wall time of that whole design
 };
 
 struct Design {
@@ -84,6 +102,7 @@ struct Design {
   bool flipped = false;       // the target's normal side is on the bed
   double side_agreement = 0;  // printed_side_agreement of the chosen side
   DesignMetrics metrics;
+  std::vector<StretchOutcome> explored;  // kEveryStretch: every design, by stretch; else empty
 };
 
 // How well the bending a plate has with theta2 = 0 agrees with the target's curvature: the
@@ -122,7 +141,9 @@ PlateDesign shrink_morph_plate_design(const FlatPlate& flat, const Eigen::Vector
 
 // Runs the pipeline on a target surface (any units; the plate is options.width_mm wide). `source`
 // names the input in error messages. Throws UserError for bad options or a target that is not a
-// disk.
+// disk. With kEveryStretch the designs from the four stretches run side by side on the cores
+// there are (each gives the same bits as alone) and the one with the lowest final E is returned,
+// its times those of the whole exploration (t_optim_s: the wall time less the kept flattening's).
 Design design_shrink_morph(Mesh target, const std::string& source, const DesignOptions& options);
 
 }  // namespace flatmorph
