@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <array>
-#include <charconv>
 #include <cmath>
 #include <cstdlib>
 #include <map>
@@ -13,104 +12,12 @@
 #include <set>
 #include <stdexcept>
 
+#include "gcode/gcode_parse.h"
+
 namespace flatmorph {
 namespace {
 
 constexpr double kEpsilon = 1e-6;  // mm of filament or head motion treated as none
-
-// One command: its name ("G1", "M104", "T0", "TURN_OFF_HEATERS") and its letter parameters. A
-// letter given without a number (the flags of "M84 X Y" or "G28 W") has value NaN.
-struct Command {
-  std::string name;
-  std::array<std::optional<double>, 26> params;
-  std::optional<double> get(char letter) const { return params[letter - 'A']; }
-  bool has(char letter) const { return params[letter - 'A'].has_value(); }
-};
-
-std::string_view trim(std::string_view s) {
-  while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
-  while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r'))
-    s.remove_suffix(1);
-  return s;
-}
-
-// Removes a leading line number "N12" and a trailing "*checksum".
-std::string_view strip_numbering(std::string_view line) {
-  if (!line.empty() && (line[0] == 'N' || line[0] == 'n') && line.size() > 1 &&
-      std::isdigit(static_cast<unsigned char>(line[1]))) {
-    size_t i = 1;
-    while (i < line.size() && std::isdigit(static_cast<unsigned char>(line[i]))) ++i;
-    line = trim(line.substr(i));
-  }
-  const size_t star = line.find('*');
-  if (star != std::string_view::npos) line = trim(line.substr(0, star));
-  return line;
-}
-
-// Removes ";" and "(...)" comments and the line numbering; `buffer` holds the line when a
-// parenthesised comment had to be cut out of it.
-std::string_view strip(std::string_view text, std::string& buffer) {
-  text = text.substr(0, text.find(';'));
-  if (text.find('(') != std::string_view::npos) {
-    buffer.clear();
-    int depth = 0;
-    for (char c : text) {
-      if (c == '(') ++depth;
-      if (depth == 0) buffer += c;
-      if (c == ')' && depth > 0) --depth;
-    }
-    text = buffer;
-  }
-  return strip_numbering(trim(text));
-}
-
-bool is_classic(std::string_view name) {
-  return name.size() >= 2 && (name[0] == 'G' || name[0] == 'M' || name[0] == 'T') &&
-         std::isdigit(static_cast<unsigned char>(name[1]));
-}
-
-// Splits "G1 X10 Y-2.5E0.3" into its command and parameters. Returns the malformed word, if any.
-std::optional<std::string> parse_command(std::string_view line, Command& cmd) {
-  size_t i = 0;
-  while (i < line.size() && line[i] != ' ' && line[i] != '\t' &&
-         !(i > 0 && std::isalpha(static_cast<unsigned char>(line[i])) &&
-           std::isdigit(static_cast<unsigned char>(line[1])))) {
-    ++i;
-  }
-  cmd.name.assign(line.substr(0, i));
-  std::transform(cmd.name.begin(), cmd.name.end(), cmd.name.begin(), ::toupper);
-  if (!is_classic(cmd.name)) return std::nullopt;  // extended commands carry KEY=VALUE words
-  while (i < line.size()) {
-    const char c = static_cast<char>(std::toupper(static_cast<unsigned char>(line[i])));
-    if (c == ' ' || c == '\t') {
-      ++i;
-      continue;
-    }
-    if (c < 'A' || c > 'Z') {
-      return std::string(1, line[i]);
-    }
-    size_t j = i + 1;
-    while (j < line.size() && (std::isdigit(static_cast<unsigned char>(line[j])) ||
-                               line[j] == '.' || line[j] == '-' || line[j] == '+')) {
-      ++j;
-    }
-    const std::string_view number = line.substr(i + 1, j - i - 1);
-    if (number.empty()) {
-      cmd.params[c - 'A'] = std::nan("");
-    } else {
-      double value = 0;
-      const char* first = number.data();
-      if (*first == '+') ++first;
-      const auto [end, ec] = std::from_chars(first, number.data() + number.size(), value);
-      if (ec != std::errc() || end != number.data() + number.size() || !std::isfinite(value)) {
-        return std::string(line.substr(i, j - i));
-      }
-      cmd.params[c - 'A'] = value;
-    }
-    i = j;
-  }
-  return std::nullopt;
-}
 
 class Checker {
  public:

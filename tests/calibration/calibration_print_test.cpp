@@ -13,7 +13,7 @@
 #include "common/error.h"
 #include "gcode/gcode_check.h"
 #include "gcode/gcode_expectations.h"
-#include "gcode/gcode_reader.h"
+#include "gcode/gcode_replay.h"
 
 namespace flatmorph {
 namespace {

@@ -5,7 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "gcode/printer_profile.h"
-#include "gcode_reader.h"
+#include "gcode_replay.h"
 #include "material/material.h"
 
 namespace flatmorph::testing {

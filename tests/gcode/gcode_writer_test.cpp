@@ -1,4 +1,4 @@
-// The G-code writer, judged by the independent reader of gcode_reader.cpp: what the file makes the
+// The G-code writer, judged by the independent reader of gcode_replay.cpp: what the file makes the
 // printer do must be what the toolpath says, on every shipped printer.
 #include "gcode/gcode_writer.h"
 
@@ -14,7 +14,7 @@
 #include "gcode/gcode_check.h"
 #include "gcode_expectations.h"
 #include "gcode_fixtures.h"
-#include "gcode_reader.h"
+#include "gcode_replay.h"
 #include "test_support.h"
 
 namespace flatmorph {

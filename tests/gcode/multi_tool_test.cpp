@@ -1,5 +1,5 @@
 // Prints with several tools, one material each (PLA and TPU on a two-tool Prusa XL): the
-// independent reader of gcode_reader.cpp sees each tool at its own material's temperature and
+// independent reader of gcode_replay.cpp sees each tool at its own material's temperature and
 // speed, a tool change exactly where the toolpath changes tool, the profile's tool-change template
 // and a prime on the pad at each, and per-tool filament matching the toolpath; the check judges
 // each tool by its own material. Primes and shared nozzles in detail: tool_change_test.cpp.
@@ -17,7 +17,7 @@
 #include "gcode/gcode_writer.h"
 #include "gcode_expectations.h"
 #include "gcode_fixtures.h"
-#include "gcode_reader.h"
+#include "gcode_replay.h"
 #include "test_support.h"
 
 namespace flatmorph {

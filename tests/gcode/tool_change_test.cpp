@@ -1,7 +1,7 @@
 // Tool changes as printers make them: the prime pad of a tool changer (the Prusa XL primes each
 // tool on the front edge of the bed) and the shared nozzle of a filament changer (a Bambu AMS:
 // the firmware swaps the filament, the template flushes the old one, one heater takes each
-// material's temperature in turn). Read back by the independent reader of gcode_reader.cpp and
+// material's temperature in turn). Read back by the independent reader of gcode_replay.cpp and
 // judged by the check.
 #include <fmt/core.h>
 #include <gtest/gtest.h>
@@ -16,7 +16,7 @@
 #include "gcode/gcode_check.h"
 #include "gcode/gcode_writer.h"
 #include "gcode_fixtures.h"
-#include "gcode_reader.h"
+#include "gcode_replay.h"
 #include "test_support.h"
 
 namespace flatmorph {

@@ -20,6 +20,7 @@
 #include "plate/layer_stack.h"
 #include "plate/plate_fixtures.h"
 #include "simulate/distance.h"
+#include "simulate/shape_fits.h"
 
 namespace flatmorph {
 namespace {
@@ -54,25 +55,7 @@ Eigen::Vector3d face_normal(const Eigen::MatrixXd& X, const Eigen::MatrixXi& F, 
   return (b - a).cross(c - a).normalized();
 }
 
-// Curvature of the best-fit circle through points that lie near a plane (Kasa fit in the plane of
-// the two main principal axes), and the circle's centre in 3D.
-double fitted_circle_curvature(const Eigen::MatrixXd& P, Eigen::Vector3d& center) {
-  const Eigen::RowVector3d mean = P.colwise().mean();
-  const Eigen::MatrixXd Q = P.rowwise() - mean;
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(Q.transpose() * Q);
-  const Eigen::Vector3d u = eig.eigenvectors().col(2), v = eig.eigenvectors().col(1);
-  Eigen::MatrixXd A(P.rows(), 3);
-  Eigen::VectorXd rhs(P.rows());
-  for (Eigen::Index i = 0; i < P.rows(); ++i) {
-    const double x = Q.row(i).dot(u), y = Q.row(i).dot(v);
-    A.row(i) << x, y, 1;
-    rhs(i) = -(x * x + y * y);
-  }
-  const Eigen::Vector3d s = A.colPivHouseholderQr().solve(rhs);
-  const double cx = -s(0) / 2, cy = -s(1) / 2;
-  center = mean.transpose() + cx * u + cy * v;
-  return 1.0 / std::sqrt(cx * cx + cy * cy - s(2));
-}
+using testing::fitted_circle_curvature;
 
 // The second fundamental form at a point of a shape, from a least-squares quadric fit of the
 // height over the tangent plane (normal n) of the vertices within `radius` of `origin`:

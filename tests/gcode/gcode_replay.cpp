@@ -1,4 +1,4 @@
-#include "gcode_reader.h"
+#include "gcode_replay.h"
 
 #include <cmath>
 #include <cstdlib>

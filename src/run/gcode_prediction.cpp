@@ -1,0 +1,82 @@
+#include "run/gcode_prediction.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "plate/laminate.h"
+
+namespace flatmorph {
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// The bounding box centre of the first layer's part beads (bed coordinates, mm).
+Eigen::Vector2d first_layer_centre(const GcodeDeposition& deposition) {
+  int first = deposition.num_layers;
+  for (const DepositedBead& bead : deposition.beads) first = std::min(first, bead.layer);
+  Eigen::Vector2d lo = Eigen::Vector2d::Constant(INFINITY), hi = -lo;
+  for (const DepositedBead& bead : deposition.beads) {
+    if (bead.layer != first) continue;
+    const Eigen::Vector2d w = Eigen::Vector2d::Constant(bead.width / 2);
+    lo = lo.cwiseMin(bead.start.head<2>() - w).cwiseMin(bead.end.head<2>() - w);
+    hi = hi.cwiseMax(bead.start.head<2>() + w).cwiseMax(bead.end.head<2>() + w);
+  }
+  return (lo + hi) / 2;
+}
+
+}  // namespace
+
+GcodePrediction predict_from_gcode(std::string_view text, const std::string& source,
+                                   const std::vector<Material>& tool_materials,
+                                   const GcodePredictionOptions& options) {
+  GcodePrediction out;
+  auto t0 = std::chrono::steady_clock::now();
+  const GcodeDeposition deposition = read_gcode_deposition(text, source, options.read);
+  out.read_seconds = seconds_since(t0);
+  out.num_beads = static_cast<int>(deposition.beads.size());
+
+  t0 = std::chrono::steady_clock::now();
+  Eigen::MatrixXd V;
+  Eigen::MatrixXi F;
+  if (options.plate_V.rows() > 0) {
+    V = options.plate_V.leftCols<2>();
+    F = options.plate_F;
+    if (deposition.header.plate_to_bed) {
+      out.plate_to_bed = *deposition.header.plate_to_bed;
+      out.placed_by_header = true;
+    } else {
+      const Eigen::Vector2d centre =
+          (V.colwise().minCoeff() + V.colwise().maxCoeff()).transpose() / 2;
+      out.plate_to_bed = first_layer_centre(deposition) - centre;
+    }
+  } else {
+    FootprintMesh footprint = footprint_plate(deposition, source, options.deposit);
+    V = std::move(footprint.V);
+    F = std::move(footprint.F);
+  }
+  const Eigen::MatrixXd on_bed = V.rowwise() + out.plate_to_bed.transpose();
+  out.plate = deposited_plate(deposition, on_bed, F, tool_materials, source, options.deposit);
+  out.plate.design.plate.rowwise() -= out.plate_to_bed.transpose();
+  out.rasterize_seconds = seconds_since(t0);
+
+  PlateProblem problem;
+  problem.plate = out.plate.design.plate;
+  problem.F = out.plate.design.F;
+  problem.rest_forms = laminate(out.plate.design.stack);
+  Eigen::MatrixXd start;
+  if (options.start.rows() > 0) {
+    start.resize(out.plate.kept_vertices.size(), 3);
+    for (Eigen::Index v = 0; v < start.rows(); ++v) {
+      start.row(v) = options.start.row(out.plate.kept_vertices(v));
+    }
+  } else {
+    start = flat_start(problem);
+  }
+  out.result = simulate(problem, start, options.simulation);
+  return out;
+}
+
+}  // namespace flatmorph

@@ -1,0 +1,49 @@
+// The shape a G-code file makes in hot water: what it deposits (gcode/gcode_reader.h), rasterized
+// onto a plate mesh (gcode/deposited_plate.h), laminated and simulated like any other plate. One
+// simulator for every method and for any slicer's file. Lengths in mm.
+#pragma once
+
+#include <Eigen/Core>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "gcode/deposited_plate.h"
+#include "gcode/gcode_reader.h"
+#include "material/material.h"
+#include "simulate/simulate.h"
+
+namespace flatmorph {
+
+struct GcodePredictionOptions {
+  GcodeReadOptions read;
+  DepositedPlateOptions deposit;
+  // The plate mesh the file was printed from (flat.ply: #V x 2 or 3 in plate coordinates, mm, and
+  // its faces); empty: the first layer's footprint, meshed at deposit.resolution_mm.
+  Eigen::MatrixXd plate_V;
+  Eigen::MatrixXi plate_F;
+  // Where the simulation starts, per vertex of plate_V (e.g. the design's target); empty: flat
+  // (flat_start, the honest forward prediction).
+  Eigen::MatrixXd start;
+  SimulationOptions simulation;
+};
+
+struct GcodePrediction {
+  DepositedPlate plate;  // in plate coordinates (bed coordinates when there was no plate mesh)
+  // bed = plate + plate_to_bed (mm): from the file's header when it says, else the shift that
+  // centres the plate mesh's bounding box on the first layer's beads; 0 for a footprint.
+  Eigen::Vector2d plate_to_bed{0, 0};
+  bool placed_by_header = false;
+  SimulationResult result;  // on the kept vertices (plate.kept_vertices of plate_V)
+  int num_beads = 0;
+  double read_seconds = 0, rasterize_seconds = 0;
+};
+
+// Reads `text` (a G-code file; `source` names it in errors) printed with tool_materials[t] on tool
+// t, and predicts the shape. Throws the reader's and the rasterizer's UserErrors.
+GcodePrediction predict_from_gcode(std::string_view text, const std::string& source,
+                                   const std::vector<Material>& tool_materials,
+                                   const GcodePredictionOptions& options = {});
+
+}  // namespace flatmorph
