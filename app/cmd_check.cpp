@@ -9,6 +9,7 @@
 #include "commands.h"
 #include "common/error.h"
 #include "gcode/gcode_check.h"
+#include "gcode/gcode_reader.h"
 #include "gcode/printer_profile.h"
 #include "material/material.h"
 #include "plate/plate_design.h"
@@ -18,7 +19,7 @@ namespace {
 
 struct CheckOptions {
   std::string file;
-  std::string printer;
+  std::optional<std::string> printer;
   std::optional<std::string> material;
 };
 
@@ -56,20 +57,12 @@ std::vector<Material> run_materials(const std::string& gcode_path, std::string& 
 }
 
 int run_check(const CheckOptions& options, const GlobalOptions& global) {
-  const PrinterProfile printer = load_printer(options.printer);
+  // Options first: a bad one is said before the file is read.
+  std::optional<PrinterProfile> printer;
+  if (options.printer) printer = load_printer(*options.printer);
+  std::vector<Material> materials;
   std::string source = "--material";
-  const std::vector<Material> materials = options.material ? load_tool_materials(*options.material)
-                                                           : run_materials(options.file, source);
-  if (materials.size() > static_cast<size_t>(printer.extruder_count)) {
-    throw UserError(ErrorCategory::kOption,
-                    fmt::format("--material names {} materials but {} has {} tool(s): give one "
-                                "material per tool",
-                                materials.size(), printer.name, printer.extruder_count));
-  }
-  std::string material_names;
-  for (const Material& m : materials) {
-    material_names += (material_names.empty() ? "" : ",") + m.name;
-  }
+  if (options.material) materials = load_tool_materials(*options.material);
   std::ifstream in(options.file, std::ios::binary);
   if (!in) {
     throw UserError(ErrorCategory::kFile,
@@ -77,13 +70,58 @@ int run_check(const CheckOptions& options, const GlobalOptions& global) {
   }
   std::stringstream text;
   text << in.rdbuf();
-  const std::vector<GcodeViolation> violations = check_gcode(text.str(), printer, materials, 1000);
+  // The printer and the materials the file names in its header (flatmorph's own files do), unless
+  // given.
+  const GcodeHeaderInfo header = read_gcode_header(text.str());
+  if (!printer) {
+    if (header.printer.empty()) {
+      throw UserError(ErrorCategory::kOption,
+                      fmt::format("{}: the file does not name its printer: give --printer (a "
+                                  "preset name, see flatmorph printers, or a profile JSON file)",
+                                  options.file));
+    }
+    try {
+      printer = load_printer(header.printer);
+    } catch (const UserError&) {
+      throw UserError(ErrorCategory::kOption,
+                      fmt::format("{}: the file was made for the printer \"{}\", which is no "
+                                  "preset of flatmorph: give --printer (a preset or a profile "
+                                  "JSON file)",
+                                  options.file, header.printer));
+    }
+  }
+  if (materials.empty() && !header.tool_materials.empty()) {
+    source = "the file's header";
+    for (const std::string& name : header.tool_materials) {
+      try {
+        materials.push_back(load_material(name));
+      } catch (const UserError&) {
+        throw UserError(ErrorCategory::kOption,
+                        fmt::format("{}: the file was printed with the material \"{}\", which is "
+                                    "no preset of flatmorph: give --material (flatmorph materials "
+                                    "lists them)",
+                                    options.file, name));
+      }
+    }
+  }
+  if (materials.empty()) materials = run_materials(options.file, source);
+  if (materials.size() > static_cast<size_t>(printer->extruder_count)) {
+    throw UserError(ErrorCategory::kOption,
+                    fmt::format("--material names {} materials but {} has {} tool(s): give one "
+                                "material per tool",
+                                materials.size(), printer->name, printer->extruder_count));
+  }
+  std::string material_names;
+  for (const Material& m : materials) {
+    material_names += (material_names.empty() ? "" : ",") + m.name;
+  }
+  const std::vector<GcodeViolation> violations = check_gcode(text.str(), *printer, materials, 1000);
   for (const GcodeViolation& v : violations) {
     fmt::print("{}:{}: {}: {}\n", options.file, v.line, to_string(v.kind), v.reason);
   }
   if (violations.empty()) {
     if (!global.quiet) {
-      fmt::print("{}: safe for {} with {} (materials from {})\n", options.file, printer.name,
+      fmt::print("{}: safe for {} with {} (materials from {})\n", options.file, printer->name,
                  material_names, source);
     }
     return 0;
@@ -91,7 +129,7 @@ int run_check(const CheckOptions& options, const GlobalOptions& global) {
   fmt::print(stderr,
              "flatmorph: error: {} is unsafe for {} with {}: {}{} violation(s), the first "
              "at line {} ({})\n",
-             options.file, printer.name, material_names, violations.size(),
+             options.file, printer->name, material_names, violations.size(),
              violations.size() >= 1000 ? "+" : "", violations.front().line,
              to_string(violations.front().kind));
   return 2;
@@ -108,11 +146,13 @@ Command make_check_command(CLI::App& app, const GlobalOptions& global) {
       "travelling, extrusion distances consistent with M82/M83, heaters and motors off at the "
       "end. Prints one line per violation and exits with status 2 if there is any.");
   sub->add_option("file", options->file, "The G-code file")->required();
-  sub->add_option("--printer", options->printer, "Printer preset name or profile JSON file")
-      ->required();
+  sub->add_option("--printer", options->printer,
+                  "Printer preset name or profile JSON file (default: the printer the file's "
+                  "header names, as flatmorph's own files do)");
   sub->add_option("--material", options->material,
-                  "Material preset name or material JSON file (default: the materials of the run "
-                  "the file belongs to, from flat.stack.json beside it, else pla-paper); on a "
+                  "Material preset name or material JSON file (default: the materials the file's "
+                  "header names, else those of the run the file belongs to, from "
+                  "flat.stack.json beside it, else pla-paper); on a "
                   "printer "
                   "with several tools, one per tool, comma-separated in tool order (T0,T1,...: "
                   "pla-paper,tpu-generic). Each tool's temperatures and extrusion are checked "

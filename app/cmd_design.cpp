@@ -19,6 +19,7 @@
 #include "methods/shrink_morph/design.h"
 #include "print_summary.h"
 #include "progress_display.h"
+#include "run/gcode_prediction.h"
 #include "run/run_folder.h"
 
 namespace flatmorph::cli {
@@ -183,11 +184,22 @@ int run_design(DesignCliOptions& o, const GlobalOptions& global) {
   // Trajectories and G-code are planned (and a plate too large for the bed refused) before
   // anything is written.
   std::optional<PrintPlan> plan;
+  double loop_seconds = 0;
   if (o.gcode) {
     PrintFilesOptions print_options;
     print_options.progress = options.progress;
     plan = plan_print(plate, printer, print_options);
     design.metrics.t_traj_s = plan->seconds;
+  }
+  // The loop closed: what plate.gcode deposits, simulated from the target as the fields were.
+  std::optional<ClosedLoop> loop;
+  if (plan) {
+    report_progress(options.progress,
+                    {"simulate", 0, 0, NAN, "the plate as plate.gcode prints it"});
+    const auto t = std::chrono::steady_clock::now();
+    loop = close_the_loop(plan->gcode.text, "plate.gcode", plate.plate, plate.F, {material},
+                          design.flat.target.V, design.flat.target.V, design.optimized);
+    loop_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
   }
 
   nlohmann::ordered_json j;
@@ -234,6 +246,15 @@ int run_design(DesignCliOptions& o, const GlobalOptions& global) {
     metrics["print_time_s"] = plan->gcode.print_time;
     metrics["filament_mm"] = plan->gcode.filament_length;
     metrics["filament_g"] = plan->gcode.filament_mass;
+    // The shape plate.gcode makes (gcode_prediction.h: rigidly fitted, over the vertices it
+    // prints) against the target and against the shape predicted from the design's fields.
+    metrics["gcode_dist_avg_pct"] = loop->to_target.mean_percent;
+    metrics["gcode_dist_max_pct"] = loop->to_target.max_percent;
+    metrics["gcode_vs_fields_avg_pct"] = loop->to_prediction.mean_percent;
+    metrics["gcode_vs_fields_max_pct"] = loop->to_prediction.max_percent;
+    metrics["gcode_unprinted_faces"] = loop->prediction.plate.removed_faces;
+    metrics["gcode_converged"] = loop->prediction.result.converged;
+    metrics["t_gcode_sim_s"] = loop_seconds;
   }
   const std::filesystem::path dir = o.output;
   RunOutputs run;

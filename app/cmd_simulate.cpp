@@ -3,15 +3,22 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <optional>
+#include <vector>
 
 #include "commands.h"
 #include "common/error.h"
+#include "gcode/printer_profile.h"
 #include "material/material.h"
 #include "mesh/io.h"
 #include "plate/laminate.h"
 #include "plate/layer_stack.h"
 #include "plate/plate_design.h"
 #include "plate_input.h"
+#include "run/gcode_prediction.h"
+#include "run/run_folder.h"
 #include "simulate/distance.h"
 #include "simulate/simulate.h"
 
@@ -21,6 +28,10 @@ namespace {
 struct SimulateOptions {
   std::string plate_path;
   PlateInputOptions plate_input;
+  // G-code input only.
+  std::optional<std::string> printer;
+  std::optional<std::string> plate_mesh;
+  double resolution_mm = 1.0;
   std::string from = "flat";
   std::string target_path;
   std::string output;
@@ -38,6 +49,19 @@ Eigen::MatrixXd read_shape(const std::string& path, const PlateDesign& plate, co
   return file.mesh.V;
 }
 
+// A shape with the vertices and faces of `plate` (as read_shape, for a plate mesh).
+Eigen::MatrixXd read_shape_of(const std::string& path, const Mesh& plate, const char* role) {
+  MeshFile file = read_mesh(path);
+  if (file.mesh.num_vertices() != plate.num_vertices() || file.mesh.F != plate.F) {
+    throw UserError(ErrorCategory::kGeometry,
+                    fmt::format("{}: the {} must have the plate's vertices and faces in the same "
+                                "order ({} vertices, {} faces); use the target.ply written next "
+                                "to flat.ply",
+                                path, role, plate.num_vertices(), plate.num_faces()));
+  }
+  return file.mesh.V;
+}
+
 void print_result(const char* label, const SimulationResult& r) {
   fmt::print(
       "{}: energy {:.6g} mJ (membrane {:.4g}, bending {:.4g}), {} Newton iterations ({} "
@@ -46,11 +70,235 @@ void print_result(const char* label, const SimulationResult& r) {
       to_string(r.status), r.seconds);
 }
 
+bool is_gcode_path(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext == ".gcode" || ext == ".gco" || ext == ".g" || ext == ".nc" || ext == ".bgcode";
+}
+
+std::vector<std::string> split_commas(const std::string& list) {
+  std::vector<std::string> names;
+  size_t begin = 0;
+  while (begin <= list.size()) {
+    const size_t end = std::min(list.find(',', begin), list.size());
+    names.push_back(list.substr(begin, end - begin));
+    begin = end + 1;
+  }
+  return names;
+}
+
+// The materials of the file's tools: --material A[,B] when given, else those its header names
+// (flatmorph's own files do), else the paper's PLA.
+std::vector<Material> tool_materials(const SimulateOptions& o, const GcodeHeaderInfo& header,
+                                     std::string& said) {
+  if (o.plate_input.material) {
+    std::vector<Material> materials;
+    for (const std::string& name : split_commas(*o.plate_input.material)) {
+      materials.push_back(load_material(name));
+    }
+    said = "--material";
+    return materials;
+  }
+  if (header.tool_materials.empty()) {
+    said = "no material named in the file: pla-paper (give --material A[,B])";
+    return {load_material("pla-paper")};
+  }
+  std::vector<Material> materials;
+  for (const std::string& name : header.tool_materials) {
+    try {
+      materials.push_back(load_material(name));
+    } catch (const UserError&) {
+      throw UserError(ErrorCategory::kOption,
+                      fmt::format("{}: the file was printed with the material \"{}\", which is no "
+                                  "preset of flatmorph: give its material file or a preset with "
+                                  "--material (flatmorph materials lists them)",
+                                  o.plate_path, name));
+    }
+  }
+  said = "the file's header";
+  return materials;
+}
+
+std::string read_text(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    throw UserError(ErrorCategory::kFile, fmt::format("{}: cannot open it; check the path", path));
+  }
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (text.rfind("GCDE", 0) == 0) {
+    throw UserError(ErrorCategory::kFormat,
+                    fmt::format("{}: binary G-code (bgcode) is not read; export plain text "
+                                "G-code from the slicer",
+                                path));
+  }
+  return text;
+}
+
+// flatmorph simulate FILE.gcode: the shape the printed file makes, and a run folder beside the
+// predicted shape (OUT.ply -> OUT/) that `flatmorph report` shows.
+int run_simulate_gcode(const SimulateOptions& o, const GlobalOptions& global) {
+  if (o.plate_input.layers) {
+    throw UserError(ErrorCategory::kOption,
+                    fmt::format("{}: --layers does not apply to G-code: its layers are those it "
+                                "prints",
+                                o.plate_path));
+  }
+  if (o.from != "flat") {
+    throw UserError(ErrorCategory::kOption,
+                    "--from applies to a flat.ply; a G-code's plate is simulated from flat");
+  }
+  if (!(o.resolution_mm > 0) || !std::isfinite(o.resolution_mm)) {
+    throw UserError(ErrorCategory::kOption,
+                    fmt::format("--resolution {}: give the plate mesh's edge length in mm (e.g. 1)",
+                                o.resolution_mm));
+  }
+  if (!o.target_path.empty() && !o.plate_mesh) {
+    throw UserError(
+        ErrorCategory::kOption,
+        "--target needs --plate: the target is compared vertex by vertex with the plate "
+        "it was designed on (give the design's flat.ply)");
+  }
+  const std::filesystem::path run_dir = std::filesystem::path(o.output).replace_extension();
+  require_run_folder_destination(run_dir);
+  // The folder of the outputs, made before minutes of work rather than failing after them.
+  if (const std::filesystem::path parent = run_dir.parent_path(); !parent.empty()) {
+    std::error_code error;
+    std::filesystem::create_directories(parent, error);
+    if (error) {
+      throw UserError(ErrorCategory::kFile,
+                      fmt::format("{}: cannot create the folder ({}); check the path",
+                                  parent.string(), error.message()));
+    }
+  }
+  GcodePredictionOptions options;
+  if (o.printer) {
+    const PrinterProfile printer = load_printer(*o.printer);
+    options.read.filament_diameter = printer.filament_diameter;
+  }
+  options.deposit.resolution_mm = o.resolution_mm;
+  Mesh plate_mesh;
+  if (o.plate_mesh) {
+    plate_mesh = read_mesh(*o.plate_mesh).mesh;
+    if (plate_mesh.V.cols() == 3 && plate_mesh.V.col(2).cwiseAbs().maxCoeff() > 1e-6) {
+      throw UserError(ErrorCategory::kGeometry,
+                      fmt::format("{}: the plate must be flat (z = 0): give the flat.ply of the "
+                                  "design the G-code was printed from",
+                                  *o.plate_mesh));
+    }
+    options.plate_V = plate_mesh.V.leftCols(2);
+    options.plate_F = plate_mesh.F;
+  }
+  const std::string text = read_text(o.plate_path);
+  // A file cut short (a copy or an upload that stopped) ends in the middle of a line, before the
+  // end G-code turns the motors off: predicting half a print would be a silent wrong answer.
+  if (!text.empty() && text.back() != '\n') {
+    const std::string_view tail =
+        std::string_view(text).substr(text.size() - std::min<size_t>(text.size(), 4096));
+    if (tail.find("M84") == std::string_view::npos && tail.find("M18") == std::string_view::npos) {
+      throw UserError(ErrorCategory::kFormat,
+                      fmt::format("{}: the file ends in the middle of a line, before its end "
+                                  "G-code: it looks cut short; copy or export it again",
+                                  o.plate_path));
+    }
+  }
+  // The header is read once more with the materials: a file without one is simulated all the same.
+  const GcodeHeaderInfo header = read_gcode_deposition(text, o.plate_path, options.read).header;
+  std::string materials_from;
+  const std::vector<Material> materials = tool_materials(o, header, materials_from);
+  const GcodePrediction p = predict_from_gcode(text, o.plate_path, materials, options);
+  const PlateDesign& plate = p.plate.design;
+  if (!global.quiet) {
+    fmt::print(
+        "read {}: {} beads in {:.2f} s; plate: {} ({} vertices, {} faces{}), {}; "
+        "materials from {}\n",
+        o.plate_path, p.num_beads, p.read_seconds,
+        o.plate_mesh ? *o.plate_mesh
+                     : fmt::format("the first layer's footprint at {} mm", o.resolution_mm),
+        plate.plate.rows(), plate.F.rows(),
+        p.plate.removed_faces > 0
+            ? fmt::format(", {} faces the file does not print left out", p.plate.removed_faces)
+            : std::string(),
+        describe_stack(plate.stack), materials_from);
+    if (o.plate_mesh) {
+      fmt::print("placed at bed = plate + ({:.3f}, {:.3f}) mm ({})\n", p.plate_to_bed.x(),
+                 p.plate_to_bed.y(),
+                 p.placed_by_header ? "the file's plate_to_bed"
+                                    : "bounding box centred on the first layer's");
+    }
+    print_result("from flat", p.result);
+  }
+  if (!p.result.converged) {
+    fmt::print(
+        stderr, "flatmorph: warning: simulation: {}\n",
+        p.result.warning.empty() ? std::string(to_string(p.result.status)) : p.result.warning);
+  }
+  RunOutputs run;
+  run.method = "gcode";
+  run.plate = plate;
+  Eigen::MatrixXd predicted = p.result.V;
+  nlohmann::ordered_json metrics;
+  MeshProperties properties;
+  if (!o.target_path.empty()) {
+    const Eigen::MatrixXd full_target = read_shape_of(o.target_path, plate_mesh, "target");
+    Eigen::MatrixXd target(p.plate.kept_vertices.size(), 3);
+    for (Eigen::Index v = 0; v < target.rows(); ++v) {
+      target.row(v) = full_target.row(p.plate.kept_vertices(v));
+    }
+    predicted = rigidly_aligned(predicted, target);
+    const ShapeDistance d = shape_distance(predicted, target);
+    properties.set_vertex("deviation_mm", d.per_vertex_mm);
+    run.target = Mesh{target, plate.F};
+    run.predicted_deviation_mm = d.per_vertex_mm;
+    metrics["gcode_dist_avg_pct"] = d.mean_percent;
+    metrics["gcode_dist_max_pct"] = d.max_percent;
+    if (!global.quiet) {
+      fmt::print(
+          "distance to target: average {:.3f} % / max {:.3f} % of the diagonal ({:.3f} / "
+          "{:.3f} mm, diagonal {:.1f} mm)\n",
+          d.mean_percent, d.max_percent, d.mean_mm, d.max_mm, d.diagonal_mm);
+    }
+  }
+  run.predicted = Mesh{predicted, plate.F};
+  metrics["faces"] = plate.F.rows();
+  metrics["layers"] = plate.stack.num_layers();
+  metrics["beads"] = p.num_beads;
+  metrics["unprinted_faces"] = p.plate.removed_faces;
+  metrics["newton_iterations"] = p.result.iterations;
+  metrics["converged"] = p.result.converged;
+  metrics["t_read_s"] = p.read_seconds;
+  metrics["t_rasterize_s"] = p.rasterize_seconds;
+  metrics["t_sim_s"] = p.result.seconds;
+  nlohmann::ordered_json parameters;
+  parameters["input"] = o.plate_path;
+  parameters["plate"] = o.plate_mesh ? *o.plate_mesh : std::string("footprint");
+  parameters["resolution_mm"] = o.resolution_mm;
+  nlohmann::ordered_json names = nlohmann::ordered_json::array();
+  for (const Material& m : materials) names.push_back(m.name);
+  parameters["materials"] = names;
+  parameters["plate_to_bed_mm"] = {p.plate_to_bed.x(), p.plate_to_bed.y()};
+  run.parameters = parameters;
+  run.metrics = metrics;
+  for (const auto& [key, value] : metrics.items()) {
+    run.metric_list.push_back(
+        {key, value.is_boolean() ? (value.get<bool>() ? 1.0 : 0.0) : value.get<double>(),
+         key.ends_with("_pct") ? "% of diagonal" : (key.starts_with("t_") ? "s" : "")});
+  }
+  write_ply(o.output, Mesh{predicted, plate.F}, properties);
+  write_run_folder(run_dir, run, nullptr);
+  if (!global.quiet) fmt::print("wrote {} and {}/\n", o.output, run_dir.string());
+  return 0;
+}
+
 int run_simulate(const SimulateOptions& o, const GlobalOptions& global) {
   if (std::filesystem::path(o.output).extension() != ".ply") {
     throw UserError(
         ErrorCategory::kOption,
         fmt::format("-o {}: the predicted shape is written as PLY; name it *.ply", o.output));
+  }
+  if (is_gcode_path(o.plate_path)) return run_simulate_gcode(o, global);
+  if (o.printer || o.plate_mesh) {
+    throw UserError(ErrorCategory::kOption,
+                    "--printer and --plate apply to a G-code file; a flat.ply is its own plate");
   }
   std::string stack_warning;
   const PlateDesign plate = load_plate_input(o.plate_path, o.plate_input, stack_warning);
@@ -123,9 +371,22 @@ Command make_simulate_command(CLI::App& app, const GlobalOptions& global) {
       "Predict the shape a printed plate takes in hot water: the equilibrium of the "
       "non-Euclidean plate energy (Shrink & Morph §3.1) of the laminate of the layers stored in "
       "flat.ply and its stack file flat.stack.json (layer count, thicknesses, materials, "
-      "directions; docs/plate.md).");
-  sub->add_option("plate", o->plate_path, "flat.ply written by 'flatmorph flatten' or 'design'")
+      "directions; docs/plate.md), or of what a G-code file deposits (any slicer's or "
+      "flatmorph's: docs/gcode.md, \"From G-code to a plate\").");
+  sub->add_option("plate", o->plate_path,
+                  "flat.ply written by 'flatmorph flatten' or 'design', or a G-code file "
+                  "(.gcode, .gco, .g, .nc)")
       ->required();
+  sub->add_option("--printer", o->printer,
+                  "G-code only: the printer the file was sliced for (its filament diameter turns "
+                  "E into volume when the file does not say)");
+  sub->add_option("--plate", o->plate_mesh,
+                  "G-code only: the plate mesh the file was printed from (the design's flat.ply; "
+                  "placed by the file's plate_to_bed, else centred on the first layer); default: "
+                  "the first layer's footprint");
+  sub->add_option("--resolution", o->resolution_mm,
+                  "G-code only: edge length (mm) of the plate mesh built from the footprint")
+      ->capture_default_str();
   add_plate_input_options(sub, o->plate_input);
   sub->add_option("--from", o->from,
                   "Start state: 'flat' (the plate with a tiny bump following its rest curvature: "
@@ -136,7 +397,9 @@ Command make_simulate_command(CLI::App& app, const GlobalOptions& global) {
                   "Target shape (target.ply) to measure the predicted shape against: adds the "
                   "per-vertex property deviation_mm and prints the distances (a shape simulated "
                   "from flat is first moved rigidly onto the target)");
-  sub->add_option("-o,--output", o->output, "Predicted shape (.ply), same vertex and face order")
+  sub->add_option("-o,--output", o->output,
+                  "Predicted shape (.ply), same vertex and face order; for a G-code file also a "
+                  "run folder of the same name without .ply (flatmorph report shows it)")
       ->required();
   return {sub, [o, &global] { return run_simulate(*o, global); }};
 }

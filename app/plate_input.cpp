@@ -12,7 +12,9 @@ namespace flatmorph::cli {
 void add_plate_input_options(CLI::App* command, PlateInputOptions& options) {
   command->add_option("--material", options.material,
                       "Only for a flat.ply without a stack file: material preset name or JSON "
-                      "file (default pla-paper); a plate with one prints what its stack says");
+                      "file (default pla-paper); a plate with one prints what its stack says. For "
+                      "a G-code file: one per tool, A[,B] (default: the materials its header "
+                      "names)");
   command->add_option("--layers", options.layers,
                       "Only for a flat.ply without a stack file: number of printed layers of the "
                       "material's layer height (default 10)");

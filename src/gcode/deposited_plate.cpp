@@ -126,9 +126,10 @@ void for_samples_under(const DepositedBead& bead, const Samples& samples, const 
                        std::vector<int>& stamp, int bead_id, Visit visit) {
   const Eigen::Vector2d a = bead.start.head<2>(), b = bead.end.head<2>();
   const double length = (b - a).norm();
-  // Beads laid at exactly their width apart touch along a line: a sample on it is under both, not
-  // between them, whatever the rounding of its distance.
-  const double r = bead.width / 2 * (1 + 1e-9) + 1e-9;
+  // Beads laid at their width apart touch: a sample on the line between them is under both, not
+  // between them, whatever the rounding of its distance or of an arc's chords (0.005 mm off the
+  // arc: gcode_reader.h). Molten beads spread that much.
+  const double r = bead.width / 2 * 1.02;
   const int pieces = std::max(1, static_cast<int>(std::ceil(length / kMaxPieceLength)));
   for (int piece = 0; piece < pieces; ++piece) {
     const Eigen::Vector2d p0 = a + (b - a) * (double(piece) / pieces);

@@ -212,6 +212,33 @@ class Reader {
     return finish();
   }
 
+  // Only the header's comment lines: nothing is judged, so any file gives what it says.
+  GcodeHeaderInfo header_only() {
+    size_t begin = 0;
+    while (begin < text_.size()) {
+      size_t end = text_.find('\n', begin);
+      if (end == std::string_view::npos) end = text_.size();
+      ++line_;
+      const std::string_view line = trim(text_.substr(begin, end - begin));
+      begin = end + 1;
+      if (line.empty() || line.front() != ';') continue;
+      const std::string_view c = trim(line.substr(1));
+      if (starts_with(c, "TARGET_MACHINE.NAME:") || starts_with(c, "MACHINE_NAME:")) {
+        set_printer(3, trim(c.substr(c.find(':') + 1)));
+      } else if (const size_t eq = c.find(" = "); eq != std::string_view::npos) {
+        header_line(c.substr(0, eq), trim(c.substr(eq + 3)));
+      }
+    }
+    if (diameter_line_ > 0) {
+      if (const auto diameters = parse_diameters(diameter_text_)) {
+        header_.tool_filament_diameters = *diameters;
+        header_.filament_diameter = diameters->front();
+      }
+    }
+    header_.tool_materials = own_materials_.empty() ? slicer_materials_ : own_materials_;
+    return std::move(header_);
+  }
+
  private:
   [[noreturn]] void fail(ErrorCategory category, const std::string& what) const {
     fail_at(category, std::max(line_, 1), what);
@@ -754,6 +781,10 @@ class Reader {
 GcodeDeposition read_gcode_deposition(std::string_view text, const std::string& source,
                                       const GcodeReadOptions& options) {
   return Reader(text, source, options).run();
+}
+
+GcodeHeaderInfo read_gcode_header(std::string_view text) {
+  return Reader(text, "", GcodeReadOptions{}).header_only();
 }
 
 }  // namespace flatmorph

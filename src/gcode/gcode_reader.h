@@ -106,4 +106,8 @@ struct GcodeReadOptions {
 GcodeDeposition read_gcode_deposition(std::string_view text, const std::string& source,
                                       const GcodeReadOptions& options = {});
 
+// Only what the header's comments say (the same keys as read_gcode_deposition), from any text:
+// nothing is judged and nothing thrown.
+GcodeHeaderInfo read_gcode_header(std::string_view text);
+
 }  // namespace flatmorph

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <stdexcept>
 
 #include "plate/laminate.h"
 
@@ -68,6 +69,10 @@ GcodePrediction predict_from_gcode(std::string_view text, const std::string& sou
   problem.rest_forms = laminate(out.plate.design.stack);
   Eigen::MatrixXd start;
   if (options.start.rows() > 0) {
+    if (options.start.rows() != options.plate_V.rows() || options.start.cols() != 3) {
+      throw std::invalid_argument(
+          "predict_from_gcode: the start needs one 3D row per plate vertex");
+    }
     start.resize(out.plate.kept_vertices.size(), 3);
     for (Eigen::Index v = 0; v < start.rows(); ++v) {
       start.row(v) = options.start.row(out.plate.kept_vertices(v));
@@ -77,6 +82,41 @@ GcodePrediction predict_from_gcode(std::string_view text, const std::string& sou
   }
   out.result = simulate(problem, start, options.simulation);
   return out;
+}
+
+namespace {
+
+Eigen::MatrixXd rows_of(const Eigen::MatrixXd& M, const Eigen::VectorXi& rows) {
+  Eigen::MatrixXd out(rows.size(), M.cols());
+  for (Eigen::Index i = 0; i < rows.size(); ++i) out.row(i) = M.row(rows(i));
+  return out;
+}
+
+}  // namespace
+
+ClosedLoop close_the_loop(std::string_view gcode, const std::string& source,
+                          const Eigen::MatrixXd& plate, const Eigen::MatrixXi& F,
+                          const std::vector<Material>& tool_materials, const Eigen::MatrixXd& start,
+                          const Eigen::MatrixXd& target, const Eigen::MatrixXd& fields_prediction) {
+  GcodePredictionOptions options;
+  options.plate_V = plate;
+  options.plate_F = F;
+  options.start = start;
+  ClosedLoop loop;
+  loop.prediction = predict_from_gcode(gcode, source, tool_materials, options);
+  const Eigen::VectorXi& kept = loop.prediction.plate.kept_vertices;
+  const Eigen::MatrixXd& predicted = loop.prediction.result.V;
+  const Eigen::MatrixXd kept_target = rows_of(target, kept);
+  const Eigen::MatrixXd kept_fields = rows_of(fields_prediction, kept);
+  loop.to_target = shape_distance(rigidly_aligned(predicted, kept_target), kept_target);
+  // In % of the target's diagonal, as every other distance of a run.
+  ShapeDistance to_fields = shape_distance(rigidly_aligned(predicted, kept_fields), kept_fields);
+  const double diagonal = loop.to_target.diagonal_mm;
+  to_fields.diagonal_mm = diagonal;
+  to_fields.mean_percent = 100 * to_fields.mean_mm / diagonal;
+  to_fields.max_percent = 100 * to_fields.max_mm / diagonal;
+  loop.to_prediction = to_fields;
+  return loop;
 }
 
 }  // namespace flatmorph

@@ -12,6 +12,7 @@
 #include "gcode/deposited_plate.h"
 #include "gcode/gcode_reader.h"
 #include "material/material.h"
+#include "simulate/distance.h"
 #include "simulate/simulate.h"
 
 namespace flatmorph {
@@ -45,5 +46,20 @@ struct GcodePrediction {
 GcodePrediction predict_from_gcode(std::string_view text, const std::string& source,
                                    const std::vector<Material>& tool_materials,
                                    const GcodePredictionOptions& options = {});
+
+// A design's loop closed: its own G-code read back and simulated on its plate (from `start`, the
+// start its fields' prediction had), and compared with the target and with that prediction, each
+// after the rigid motion that best fits them (the two are registered differently when the G-code
+// leaves faces of the plate out). Distances over the vertices the G-code prints, in % of the
+// target's diagonal.
+struct ClosedLoop {
+  GcodePrediction prediction;
+  ShapeDistance to_target;      // the G-code's predicted shape against the target
+  ShapeDistance to_prediction;  // ... against the prediction from the design's fields
+};
+ClosedLoop close_the_loop(std::string_view gcode, const std::string& source,
+                          const Eigen::MatrixXd& plate, const Eigen::MatrixXi& F,
+                          const std::vector<Material>& tool_materials, const Eigen::MatrixXd& start,
+                          const Eigen::MatrixXd& target, const Eigen::MatrixXd& fields_prediction);
 
 }  // namespace flatmorph

@@ -47,6 +47,11 @@ TEST(CliDesign, WritesThePlateTheShapesAndTheMetrics) {
   EXPECT_EQ(j.at("width_mm").get<double>(), 60);
   EXPECT_TRUE(j.at("normal_side_down").get<bool>());  // a dome prints concave side up
   EXPECT_GT(m.at("print_time_s").get<double>(), 0);
+  // The loop closed (issue 22): plate.gcode read back and simulated lands near the fields' shape.
+  EXPECT_EQ(m.at("gcode_unprinted_faces").get<int>(), 0);
+  EXPECT_TRUE(m.at("gcode_converged").get<bool>());
+  EXPECT_LT(m.at("gcode_vs_fields_avg_pct").get<double>(), 1.0);
+  EXPECT_LT(m.at("gcode_dist_avg_pct").get<double>(), m.at("dist_to_sim_avg_pct").get<double>());
 
   // The print files of issue 6: G-code and the layer previews.
   EXPECT_TRUE(fs::exists(dir / "plate.gcode"));

@@ -1,6 +1,12 @@
 // `flatmorph simulate` on a plate written by `flatmorph flatten`, as a user runs it.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <fstream>
+#include <string>
+#include <utility>
+#include <vector>
+
 #include "mesh/io.h"
 #include "test_support.h"
 
@@ -81,6 +87,82 @@ TEST(CliSimulate, BadInputsGiveOneLineErrorsAndNoOutput) {
   for (const char* name : {"a.ply", "b.ply", "c.obj", "d.ply"}) {
     EXPECT_FALSE(fs::exists(dir / name)) << name;
   }
+}
+
+// A 30 x 10 mm strip of 6 layers along x, as a slicer without annotations would write it.
+std::string strip_gcode(bool relative_e) {
+  std::string g = relative_e ? "G21\nG90\nM83\n" : "G21\nG90\nM82\nG92 E0\n";
+  const double area = 3.14159265358979 * 1.75 * 1.75 / 4;
+  double e = 0;
+  for (int k = 1; k <= 6; ++k) {
+    g += "G0 Z" + std::to_string(0.1 * k) + "\n";
+    for (int i = 0; i < 25; ++i) {
+      const double y = -5 + 0.2 + 0.4 * i;
+      const double x0 = i % 2 ? 15 : -15, x1 = -x0;
+      const double de = 30 * 0.4 * 0.1 / area;
+      e += de;
+      g += "G0 X" + std::to_string(x0) + " Y" + std::to_string(y) + "\n";
+      g += "G1 X" + std::to_string(x1) + " Y" + std::to_string(y) + " E" +
+           std::to_string(relative_e ? de : e) + " F1800\n";
+    }
+  }
+  return g + "M84\n";
+}
+
+void write_text(const fs::path& path, const std::string& text) {
+  std::ofstream out(path, std::ios::binary);
+  out << text;
+}
+
+TEST(CliSimulate, PredictsAGcodeFileOnItsFootprintAndWritesARunFolder) {
+  const fs::path dir = testing::scratch_dir();
+  write_text(dir / "strip.gcode", strip_gcode(true));
+  const auto r = run_cli({"simulate", (dir / "strip.gcode").string(), "--material", "pla-paper",
+                          "-o", (dir / "out" / "strip.ply").string()});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("6 layers"), std::string::npos) << r.out;
+  const Mesh shape = read_mesh(dir / "out" / "strip.ply").mesh;
+  // Curled: it no longer lies in a plane.
+  EXPECT_GT(shape.V.col(2).maxCoeff() - shape.V.col(2).minCoeff(), 1.0);
+  for (const char* file : {"flat.ply", "flat.stack.json", "design.json", "report.html"}) {
+    EXPECT_TRUE(fs::exists(dir / "out" / "strip" / file)) << file;
+  }
+  // The same strip with absolute E reads as the same plate, so curls the same.
+  write_text(dir / "strip_abs.gcode", strip_gcode(false));
+  const auto a = run_cli({"simulate", (dir / "strip_abs.gcode").string(), "-o",
+                          (dir / "out" / "strip_abs.ply").string()});
+  ASSERT_EQ(a.exit_code, 0) << a.err;
+  const Mesh twin = read_mesh(dir / "out" / "strip_abs.ply").mesh;
+  ASSERT_EQ(twin.V.rows(), shape.V.rows());
+  EXPECT_LT((twin.V - shape.V).cwiseAbs().maxCoeff(), 1e-6);
+}
+
+TEST(CliSimulate, HostileGcodeGivesOneLineAndExit2) {
+  const fs::path dir = testing::scratch_dir();
+  const std::string good = strip_gcode(true);
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"truncated.gcode", good.substr(0, good.size() / 2 - 7)},
+      {"nothing.gcode", "G21\nG90\nM83\nG0 X10 Y10 Z0.2\nG0 X20\nM84\n"},
+      {"nan.gcode", "G21\nM83\nG0 Z0.2\nG1 X10 Y10 E0.5\nG1 Xnan Y3 E0.5\nM84\n"},
+      {"inches.gcode", "G20\nM83\nG0 Z0.01\nG1 X1 Y1 E0.1\nM84\n"},
+      // Relative E declared, absolute values written: beads far too wide.
+      {"mixed.gcode", "G21\nM83\nG0 Z0.2\nG1 X10 Y0 E5\nG1 X20 Y0 E10\nG1 X30 Y0 E15\nM84\n"},
+  };
+  for (const auto& [name, text] : cases) {
+    write_text(dir / name, text);
+    const auto r = run_cli({"simulate", (dir / name).string(), "-o", (dir / "x.ply").string()});
+    EXPECT_EQ(r.exit_code, 2) << name << "\n" << r.err;
+    EXPECT_NE(r.err.find(name), std::string::npos) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << name << "\n" << r.err;
+    EXPECT_FALSE(fs::exists(dir / "x.ply")) << name;
+    EXPECT_FALSE(fs::exists(dir / "x")) << name;
+  }
+  // --target is compared vertex by vertex, so it needs the plate it was designed on.
+  write_text(dir / "strip.gcode", good);
+  const auto r = run_cli({"simulate", (dir / "strip.gcode").string(), "--target",
+                          (dir / "t.ply").string(), "-o", (dir / "x.ply").string()});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--plate"), std::string::npos) << r.err;
 }
 
 }  // namespace

@@ -81,6 +81,12 @@ TEST(CliCheck, PassesWhatFlatmorphWrites) {
       run_cli({"check", path.string(), "--printer", "bambu-p1s", "--material", "pla-generic"});
   EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
   EXPECT_NE(r.out.find("safe for bambu-p1s with pla-generic"), std::string::npos);
+  // Its header names the printer and the material: nothing more is needed.
+  const testing::CliResult own = run_cli({"check", path.string()});
+  EXPECT_EQ(own.exit_code, 0) << own.out << own.err;
+  EXPECT_NE(own.out.find("safe for bambu-p1s with pla-generic (materials from the file's header)"),
+            std::string::npos)
+      << own.out;
 }
 
 TEST(CliCheck, BadArguments) {
@@ -89,6 +95,13 @@ TEST(CliCheck, BadArguments) {
   EXPECT_NE(missing.err.find("nowhere.gcode: cannot open"), std::string::npos) << missing.err;
   const testing::CliResult no_printer = run_cli({"check", "nowhere.gcode"});
   EXPECT_EQ(no_printer.exit_code, 2);
+  // A file that does not name its printer needs --printer.
+  const std::filesystem::path bare = testing::scratch_dir() / "bare.gcode";
+  std::ofstream(bare) << "M83\nG1 X1 Y1 F600\nM84\n";
+  const testing::CliResult unnamed = run_cli({"check", bare.string()});
+  EXPECT_EQ(unnamed.exit_code, 2);
+  EXPECT_NE(unnamed.err.find("does not name its printer: give --printer"), std::string::npos)
+      << unnamed.err;
   const testing::CliResult bad_material =
       run_cli({"check", "nowhere.gcode", "--printer", "bambu-p1s", "--material", "abs"});
   EXPECT_EQ(bad_material.exit_code, 2);

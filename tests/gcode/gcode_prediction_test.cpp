@@ -16,6 +16,7 @@
 
 #include "mesh/operators.h"
 #include "mesh/topology.h"
+#include "plate/plate_fixtures.h"
 #include "simulate/distance.h"
 #include "simulate/shape_fits.h"
 #include "test_support.h"
@@ -202,6 +203,56 @@ TEST(GcodePrediction, PlaPrintedOnTpuBendsAsTimoshenkosBilayer) {
   const double timoshenko = 6 * strain * (1 + m) * (1 + m) /
                             (h * (3 * (1 + m) * (1 + m) + (1 + m * n) * (m * m + 1 / (m * n))));
   EXPECT_NEAR(curvature_along(p, {1, 0}, 30), timoshenko, 0.05 * timoshenko);
+}
+
+// The same rings written two ways: relative E, each ring one G2 full circle, a retraction and a
+// wipe between rings; and absolute E, each ring as 720 G1 chords. They deposit the same stack.
+TEST(GcodePrediction, ArcsRelativeEAndRetractionsGiveTheStackOfTheirSegmentTwin) {
+  std::string arcs = "G21\nG90\nM83\n", segments = "G21\nG90\nM82\nG92 E0\n";
+  double e = 0;
+  for (int k = 1; k <= 3; ++k) {
+    const double z = 0.1 * k;
+    arcs += fmt::format("G0 Z{:.3f}\n", z);
+    segments += fmt::format("G0 Z{:.3f}\n", z);
+    for (double r = kWidth / 2 + 1; r < 15; r += kWidth) {
+      const double per_mm = kWidth * 0.1 / kFilamentArea;
+      arcs += fmt::format("G0 X{:.5f} Y0\nG1 E0.81 F2400\n", r);  // what the last retracted
+      arcs += fmt::format("G2 X{:.5f} Y0 I{:.5f} J0 E{:.6f} F1800\n", r, -r,
+                          2 * std::numbers::pi * r * per_mm);
+      arcs += "G1 E-0.8 F2400\nG1 X0.5 Y0.5 E-0.01\n";  // retract, then wipe inwards
+      segments += fmt::format("G0 X{:.5f} Y0\n", r);
+      const int n = 720;
+      for (int i = 1; i <= n; ++i) {
+        const double a = -2 * std::numbers::pi * i / n;  // clockwise, as G2
+        e += 2 * r * std::sin(std::numbers::pi / n) * per_mm;
+        segments +=
+            fmt::format("G1 X{:.5f} Y{:.5f} E{:.6f} F1800\n", r * std::cos(a), r * std::sin(a), e);
+      }
+    }
+  }
+  arcs += "M84\n";
+  segments += "M84\n";
+  const testing::TestPlate disk = testing::disk_plate(14, 14);
+  const Material pla = load_material("pla-paper");
+  auto stack_of_file = [&](const std::string& text) {
+    return deposited_plate(read_gcode_deposition(text, "rings.gcode"), disk.V, disk.F, {pla},
+                           "rings.gcode");
+  };
+  const DepositedPlate a = stack_of_file(arcs), b = stack_of_file(segments);
+  ASSERT_EQ(a.design.stack.num_layers(), 3);
+  ASSERT_EQ(b.design.stack.num_layers(), 3);
+  ASSERT_EQ(a.kept_faces, b.kept_faces);
+  for (int k = 0; k < 3; ++k) {
+    const Layer& la = a.design.stack.layers[k];
+    const Layer& lb = b.design.stack.layers[k];
+    for (Eigen::Index f = 0; f < la.theta.size(); ++f) {
+      ASSERT_EQ(la.covers(f), lb.covers(f)) << k << " " << f;
+      if (!la.covers(f)) continue;
+      EXPECT_NEAR(la.printed_thickness(f), lb.printed_thickness(f), 0.02 * lb.printed_thickness(f));
+      // The arcs' chords turn by up to 0.2 rad on the smallest ring.
+      EXPECT_LT(std::abs(std::remainder(la.theta(f) - lb.theta(f), std::numbers::pi)), 0.03);
+    }
+  }
 }
 
 }  // namespace
