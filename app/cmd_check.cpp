@@ -11,6 +11,7 @@
 #include "gcode/gcode_check.h"
 #include "gcode/gcode_reader.h"
 #include "gcode/printer_profile.h"
+#include "gcode_input.h"
 #include "material/material.h"
 #include "plate/plate_design.h"
 
@@ -22,26 +23,6 @@ struct CheckOptions {
   std::optional<std::string> printer;
   std::optional<std::string> material;
 };
-
-// "pla-paper,tpu-generic": one material per tool, T0 first.
-std::vector<Material> load_tool_materials(const std::string& list) {
-  std::vector<Material> materials;
-  size_t begin = 0;
-  while (true) {
-    const size_t comma = list.find(',', begin);
-    const std::string name = list.substr(begin, comma - begin);
-    if (name.empty()) {
-      throw UserError(ErrorCategory::kOption,
-                      fmt::format("--material \"{}\" has an empty name: give one material per "
-                                  "tool, comma-separated, e.g. pla-paper,tpu-generic",
-                                  list));
-    }
-    materials.push_back(load_material(name));
-    if (comma == std::string::npos) break;
-    begin = comma + 1;
-  }
-  return materials;
-}
 
 // The materials of the run the G-code belongs to: the stack file beside it (a run folder holds
 // plate.gcode and flat.stack.json), else pla-paper for T0.
@@ -73,36 +54,10 @@ int run_check(const CheckOptions& options, const GlobalOptions& global) {
   // The printer and the materials the file names in its header (flatmorph's own files do), unless
   // given.
   const GcodeHeaderInfo header = read_gcode_header(text.str());
-  if (!printer) {
-    if (header.printer.empty()) {
-      throw UserError(ErrorCategory::kOption,
-                      fmt::format("{}: the file does not name its printer: give --printer (a "
-                                  "preset name, see flatmorph printers, or a profile JSON file)",
-                                  options.file));
-    }
-    try {
-      printer = load_printer(header.printer);
-    } catch (const UserError&) {
-      throw UserError(ErrorCategory::kOption,
-                      fmt::format("{}: the file was made for the printer \"{}\", which is no "
-                                  "preset of flatmorph: give --printer (a preset or a profile "
-                                  "JSON file)",
-                                  options.file, header.printer));
-    }
-  }
-  if (materials.empty() && !header.tool_materials.empty()) {
-    source = "the file's header";
-    for (const std::string& name : header.tool_materials) {
-      try {
-        materials.push_back(load_material(name));
-      } catch (const UserError&) {
-        throw UserError(ErrorCategory::kOption,
-                        fmt::format("{}: the file was printed with the material \"{}\", which is "
-                                    "no preset of flatmorph: give --material (flatmorph materials "
-                                    "lists them)",
-                                    options.file, name));
-      }
-    }
+  if (!printer) printer = header_printer(header, options.file);
+  if (materials.empty()) {
+    materials = header_tool_materials(header, options.file);
+    if (!materials.empty()) source = "the file's header";
   }
   if (materials.empty()) materials = run_materials(options.file, source);
   if (materials.size() > static_cast<size_t>(printer->extruder_count)) {

@@ -11,8 +11,10 @@
 #include "commands.h"
 #include "common/error.h"
 #include "gcode/printer_profile.h"
+#include "gcode_input.h"
 #include "material/material.h"
 #include "mesh/io.h"
+#include "output_folder.h"
 #include "plate/laminate.h"
 #include "plate/layer_stack.h"
 #include "plate/plate_design.h"
@@ -76,47 +78,21 @@ bool is_gcode_path(const std::string& path) {
   return ext == ".gcode" || ext == ".gco" || ext == ".g" || ext == ".nc" || ext == ".bgcode";
 }
 
-std::vector<std::string> split_commas(const std::string& list) {
-  std::vector<std::string> names;
-  size_t begin = 0;
-  while (begin <= list.size()) {
-    const size_t end = std::min(list.find(',', begin), list.size());
-    names.push_back(list.substr(begin, end - begin));
-    begin = end + 1;
-  }
-  return names;
-}
-
 // The materials of the file's tools: --material A[,B] when given, else those its header names
 // (flatmorph's own files do), else the paper's PLA.
 std::vector<Material> tool_materials(const SimulateOptions& o, const GcodeHeaderInfo& header,
                                      std::string& said) {
   if (o.plate_input.material) {
-    std::vector<Material> materials;
-    for (const std::string& name : split_commas(*o.plate_input.material)) {
-      materials.push_back(load_material(name));
-    }
     said = "--material";
+    return load_tool_materials(*o.plate_input.material);
+  }
+  std::vector<Material> materials = header_tool_materials(header, o.plate_path);
+  if (!materials.empty()) {
+    said = "the file's header";
     return materials;
   }
-  if (header.tool_materials.empty()) {
-    said = "no material named in the file: pla-paper (give --material A[,B])";
-    return {load_material("pla-paper")};
-  }
-  std::vector<Material> materials;
-  for (const std::string& name : header.tool_materials) {
-    try {
-      materials.push_back(load_material(name));
-    } catch (const UserError&) {
-      throw UserError(ErrorCategory::kOption,
-                      fmt::format("{}: the file was printed with the material \"{}\", which is no "
-                                  "preset of flatmorph: give its material file or a preset with "
-                                  "--material (flatmorph materials lists them)",
-                                  o.plate_path, name));
-    }
-  }
-  said = "the file's header";
-  return materials;
+  said = "no material named in the file: pla-paper (give --material A[,B])";
+  return {load_material("pla-paper")};
 }
 
 std::string read_text(const std::string& path) {
@@ -161,15 +137,7 @@ int run_simulate_gcode(const SimulateOptions& o, const GlobalOptions& global) {
   const std::filesystem::path run_dir = std::filesystem::path(o.output).replace_extension();
   require_run_folder_destination(run_dir);
   // The folder of the outputs, made before minutes of work rather than failing after them.
-  if (const std::filesystem::path parent = run_dir.parent_path(); !parent.empty()) {
-    std::error_code error;
-    std::filesystem::create_directories(parent, error);
-    if (error) {
-      throw UserError(ErrorCategory::kFile,
-                      fmt::format("{}: cannot create the folder ({}); check the path",
-                                  parent.string(), error.message()));
-    }
-  }
+  create_output_folder(run_dir.parent_path());
   GcodePredictionOptions options;
   if (o.printer) {
     const PrinterProfile printer = load_printer(*o.printer);

@@ -22,18 +22,17 @@ void BM_GcodePrediction(benchmark::State& state) {
   const PaperModel& model = kPaperModels[state.range(0)];
   const std::filesystem::path path = paper_model_path(model, state);
   if (path.empty()) return;
-  const DesignOptions options = paper_design_options(model);
-  const Design design = design_shrink_morph(read_mesh(path).mesh, path.string(), options);
-  const PlateDesign plate =
-      shrink_morph_plate_design(design.flat, design.theta2, options.material, options.layers);
-  const PrinterProfile printer = load_printer("creality-cr10s-pro");  // 300 mm bed: the top fits
-  const PrintPlan plan = plan_print(plate, printer, PrintFilesOptions{});
+  const PaperPrint paper = design_paper_model(model, path);
+  const Design& design = paper.design;
+  const PlateDesign& plate = paper.plate;
+  const PrintPlan plan = plan_print(plate, paper.printer, PrintFilesOptions{});
   ClosedLoop loop;
   double total = 0;
   for (auto _ : state) {
     const auto t0 = std::chrono::steady_clock::now();
-    loop = close_the_loop(plan.gcode.text, "plate.gcode", plate.plate, plate.F, {options.material},
-                          design.flat.target.V, design.flat.target.V, design.optimized);
+    loop = close_the_loop(plan.gcode.text, "plate.gcode", plate.plate, plate.F,
+                          {paper.options.material}, design.flat.target.V, design.flat.target.V,
+                          design.optimized);
     total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   }
   const GcodePrediction& p = loop.prediction;

@@ -7,6 +7,10 @@
 #include <string>
 
 #include "../tests/methods/shrink_morph/paper_table1.h"
+#include "gcode/printer_profile.h"
+#include "mesh/io.h"
+#include "methods/shrink_morph/design.h"
+#include "run/print_plan.h"
 
 namespace flatmorph {
 
@@ -22,6 +26,24 @@ inline std::filesystem::path paper_model_path(const PaperModel& model, benchmark
   if (std::filesystem::exists(path)) return path;
   state.SkipWithError("../shared/meshes is not beside the project");
   return {};
+}
+
+// A model designed with Table 1's settings (theta2 optimized), its plate and the print planned
+// for a 300 mm bed (the top is 250 mm wide): what the print benchmarks start from, not timed.
+struct PaperPrint {
+  DesignOptions options;
+  Design design;
+  PlateDesign plate;
+  PrinterProfile printer;
+};
+inline PaperPrint design_paper_model(const PaperModel& model, const std::filesystem::path& path) {
+  PaperPrint out;
+  out.options = paper_design_options(model);
+  out.design = design_shrink_morph(read_mesh(path).mesh, path.string(), out.options);
+  out.plate = shrink_morph_plate_design(out.design.flat, out.design.theta2, out.options.material,
+                                        out.options.layers);
+  out.printer = load_printer("creality-cr10s-pro");
+  return out;
 }
 
 }  // namespace flatmorph

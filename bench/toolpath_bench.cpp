@@ -90,11 +90,9 @@ void BM_Trajectories(benchmark::State& state) {
   const PaperModel& model = kPaperModels[state.range(0)];
   const std::filesystem::path path = paper_model_path(model, state);
   if (path.empty()) return;
-  const DesignOptions options = paper_design_options(model);
-  const Design design = design_shrink_morph(read_mesh(path).mesh, path.string(), options);
-  const PlateDesign plate =
-      shrink_morph_plate_design(design.flat, design.theta2, options.material, options.layers);
-  const PrinterProfile printer = load_printer("creality-cr10s-pro");  // 300 mm bed: the top fits
+  const PaperPrint paper = design_paper_model(model, path);
+  const PlateDesign& plate = paper.plate;
+  const PrinterProfile& printer = paper.printer;
   PrintPlan plan;
   for (auto _ : state) plan = plan_print(plate, printer, PrintFilesOptions{});
   const LayerPaths& paths = plan.paths;
