@@ -263,6 +263,16 @@ int run_design(DesignCliOptions& o, const GlobalOptions& global) {
   run.target = design.flat.target;
   run.predicted = Mesh{design.optimized, plate.F};
   run.predicted_deviation_mm = design.dist_to_optim.per_vertex_mm;
+  if (loop) {
+    // Rigidly fitted to the target, as its distances are measured.
+    const GcodePrediction& p = loop->prediction;
+    Eigen::MatrixXd target(p.plate.kept_vertices.size(), 3);
+    for (Eigen::Index v = 0; v < target.rows(); ++v) {
+      target.row(v) = design.flat.target.V.row(p.plate.kept_vertices(v));
+    }
+    run.gcode_predicted = Mesh{rigidly_aligned(p.result.V, target), p.plate.design.F};
+    run.gcode_predicted_deviation_mm = loop->to_target.per_vertex_mm;
+  }
   run.print = std::move(plan);
   run.parameters = j;
   run.metrics = metrics;

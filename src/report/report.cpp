@@ -183,6 +183,17 @@ Json metrics_json(const RunFolder& run) {
                 fmt::format("{:.3f} mm / {:.3f} mm", d->mean(), d->maxCoeff()));
     }
   }
+  const double gcode_avg = number(find(m, "gcode_dist_avg_pct"));
+  if (std::isfinite(gcode_avg)) {
+    shape.add("distance to target of the shape plate.gcode prints (avg / max, % of diagonal)",
+              fmt::format("{:.3f} % / {:.3f} %", gcode_avg, number(find(m, "gcode_dist_max_pct"))));
+  }
+  const double vs_fields = number(find(m, "gcode_vs_fields_avg_pct"));
+  if (std::isfinite(vs_fields)) {
+    shape.add(
+        "plate.gcode's shape to the design's (avg / max, % of diagonal)",
+        fmt::format("{:.3f} % / {:.3f} %", vs_fields, number(find(m, "gcode_vs_fields_max_pct"))));
+  }
   if (run.flat) {
     shape.add("plate",
               fmt::format("{} vertices, {} faces", run.flat->plate.rows(), run.flat->F.rows()));
@@ -351,6 +362,7 @@ std::string report_html(const RunFolder& run) {
     if (d && d->size() == run.simulated->mesh.V.rows()) predicted["deviation_mm"] = float32(*d);
     data["predicted"] = std::move(predicted);
   }
+  if (run.gcode_simulated) data["gcode_predicted"] = mesh_json(run.gcode_simulated->mesh);
   if (run.print) data["toolpath"] = layers_json(run.print->toolpath);
   data["metrics"] = metrics_json(run);
   data["missing"] = run.missing;

@@ -30,6 +30,9 @@ RunFolder read_run_folder(const std::filesystem::path& dir) {
   if (exists("flat.ply")) run.flat = read_plate_design(dir / "flat.ply", Material{}, 10).design;
   if (exists("target.ply")) run.target = read_mesh(dir / "target.ply");
   if (exists("simulated.ply")) run.simulated = read_mesh(dir / "simulated.ply");
+  if (std::filesystem::is_regular_file(dir / "gcode_simulated.ply", ec)) {
+    run.gcode_simulated = read_mesh(dir / "gcode_simulated.ply");
+  }
   if (exists("design.json")) {
     std::ifstream in(dir / "design.json");
     if (!in) {

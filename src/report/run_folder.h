@@ -23,6 +23,9 @@ struct RunFolder {
   std::optional<PlateDesign> flat;
   std::optional<MeshFile> target;     // target.ply
   std::optional<MeshFile> simulated;  // simulated.ply, per-vertex deviation_mm if computed
+  // gcode_simulated.ply: the shape predicted from plate.gcode (not listed as missing: only runs
+  // with a print have it).
+  std::optional<MeshFile> gcode_simulated;
   nlohmann::ordered_json design;      // design.json (null when absent)
   std::optional<ToolpathFile> print;  // toolpath.json: what plate.gcode prints, as data
   std::vector<std::string> missing;   // the file names that were not there

@@ -74,6 +74,13 @@ void write_run_folder(const std::filesystem::path& dir, const RunOutputs& run,
       }
       write_ply(tmp / "simulated.ply", *run.predicted, properties);
     }
+    if (run.gcode_predicted) {
+      MeshProperties properties;
+      if (run.gcode_predicted_deviation_mm.size() > 0) {
+        properties.set_vertex("deviation_mm", run.gcode_predicted_deviation_mm);
+      }
+      write_ply(tmp / "gcode_simulated.ply", *run.gcode_predicted, properties);
+    }
     if (run.print) write_print_files(tmp, *run.print, *printer, run.plate.stack);
     const std::string record = run_record(run).dump(2) + "\n";
     write_file_atomically(tmp / "design.json", false, [&](std::ostream& out) { out << record; });

@@ -31,7 +31,11 @@ struct RunOutputs {
   std::optional<Mesh> target;              // target.ply (mm, the plate's vertex and face order)
   std::optional<Mesh> predicted;           // simulated.ply: the predicted shape (mm) ...
   Eigen::VectorXd predicted_deviation_mm;  // ... and its per-vertex distance to the target
-  std::optional<PrintPlan> print;          // plate.gcode, toolpath.json, layers/ (none: no print)
+  // gcode_simulated.ply: the shape predicted from the run's own plate.gcode (gcode_prediction.h),
+  // on the faces it prints, with its per-vertex distance to the target.
+  std::optional<Mesh> gcode_predicted;
+  Eigen::VectorXd gcode_predicted_deviation_mm;
+  std::optional<PrintPlan> print;  // plate.gcode, toolpath.json, layers/ (none: no print)
   // design.json: every parameter as top-level keys, the method's own metrics object (the keys
   // the report and the paper's tables read), and the generic list of figures.
   nlohmann::ordered_json parameters;

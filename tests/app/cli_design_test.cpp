@@ -58,6 +58,9 @@ TEST(CliDesign, WritesThePlateTheShapesAndTheMetrics) {
   EXPECT_TRUE(fs::exists(dir / "layers" / "layer_001.svg"));
   EXPECT_TRUE(fs::exists(dir / "layers" / "overview.png"));
   EXPECT_TRUE(fs::exists(dir / "report.html"));  // issue 8
+  // Both predicted shapes, and the report shows the one plate.gcode prints next to the other.
+  EXPECT_TRUE(fs::exists(dir / "gcode_simulated.ply"));
+  EXPECT_NE(testing::read_file(dir / "report.html").find("\"gcode_predicted\""), std::string::npos);
 
   // --json: design.json on stdout, no progress. --stretch: the flattening starts where it is told.
   const int chosen_stretch = j.at("stretch_candidate").get<int>();

@@ -345,6 +345,18 @@ function setup3d() {
         'Predicted shape (no deviation_mm in simulated.ply: run flatmorph simulate with --target).';
     }
   }
+  let printed = null;
+  if (data.gcode_predicted) {
+    // The shape predicted from what plate.gcode deposits, in one colour, off until asked for.
+    const g = meshGeometry(data.gcode_predicted);
+    printed = new THREE.Mesh(g, new THREE.MeshStandardMaterial({
+      color: 0xe07b39, side: THREE.DoubleSide, roughness: 0.8, metalness: 0,
+      transparent: true, opacity: 0.75,
+    }));
+    printed.visible = false;
+    scene.add(printed);
+    document.getElementById('show-gcode-label').hidden = false;
+  }
   if (data.target) {
     const g = meshGeometry(data.target);
     wire = new THREE.LineSegments(new THREE.WireframeGeometry(g),
@@ -382,6 +394,10 @@ function setup3d() {
   controls.addEventListener('change', render);
   document.getElementById('show-predicted').addEventListener('change', (e) => {
     if (predicted) predicted.visible = e.target.checked;
+    render();
+  });
+  document.getElementById('show-gcode').addEventListener('change', (e) => {
+    if (printed) printed.visible = e.target.checked;
     render();
   });
   document.getElementById('show-wireframe').addEventListener('change', (e) => {
