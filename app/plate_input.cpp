@@ -51,14 +51,15 @@ PlateDesign load_plate_input(const std::string& path, const PlateInputOptions& o
 }
 
 std::string describe_stack(const LayerStack& stack) {
-  double thickness = 0;
-  for (const Layer& l : stack.layers) thickness += l.printed_thickness.maxCoeff();
+  const auto [thinnest, thickest] = printed_thickness_range(stack);
   std::string materials;
   for (const Material& m : stack.materials) {
     materials += (materials.empty() ? "" : ", ") + m.name;
   }
-  return fmt::format("{} layers ({:.3g} mm printed) of {}", stack.num_layers(), thickness,
-                     materials);
+  const std::string thickness = thickest - thinnest < 0.005
+                                    ? fmt::format("{:.3g} mm", thickest)
+                                    : fmt::format("{:.3g} to {:.3g} mm", thinnest, thickest);
+  return fmt::format("{} layers ({} printed) of {}", stack.num_layers(), thickness, materials);
 }
 
 }  // namespace flatmorph::cli

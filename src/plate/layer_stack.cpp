@@ -74,6 +74,17 @@ void check_layer_stack(const LayerStack& stack) {
   }
 }
 
+std::pair<double, double> printed_thickness_range(const LayerStack& stack) {
+  if (stack.num_layers() == 0 || stack.num_faces() == 0) return {0.0, 0.0};
+  Eigen::VectorXd total = Eigen::VectorXd::Zero(stack.num_faces());
+  for (const Layer& l : stack.layers) {
+    for (Eigen::Index f = 0; f < total.size(); ++f) {
+      if (l.covers(f)) total(f) += l.printed_thickness(f);
+    }
+  }
+  return {total.minCoeff(), total.maxCoeff()};
+}
+
 double shrink_morph_layer_weight(int k, int num_layers) {
   return num_layers == 1 ? 0.0 : double(k - 1) / (num_layers - 1) - 0.5;
 }

@@ -8,6 +8,7 @@
 
 #include <Eigen/Core>
 #include <numbers>
+#include <utility>
 #include <vector>
 
 #include "material/material.h"
@@ -47,6 +48,10 @@ struct LayerStack {
 // (lambda1 uniform through the layer); callers then set theta and what varies.
 Layer uniform_layer(int num_faces, int material, const Material& properties,
                     double printed_thickness);
+
+// The least and the greatest printed thickness of a face (the sum over the layers covering it),
+// mm; {0, 0} for an empty stack.
+std::pair<double, double> printed_thickness_range(const LayerStack& stack);
 
 // Throws UserError (kOption) unless every layer gives one value per face, every covering material
 // index names a material of the stack, thicknesses of covered faces are positive, every value is

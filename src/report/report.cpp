@@ -198,12 +198,15 @@ Json metrics_json(const RunFolder& run) {
     shape.add("plate",
               fmt::format("{} vertices, {} faces", run.flat->plate.rows(), run.flat->F.rows()));
     const LayerStack& stack = run.flat->stack;
-    double printed = 0;
-    for (const Layer& layer : stack.layers) printed += layer.printed_thickness.maxCoeff();
+    const auto [thinnest, thickest] = printed_thickness_range(stack);
     std::string materials;
     for (const Material& m : stack.materials) materials += (materials.empty() ? "" : ", ") + m.name;
     shape.add("printed layers (flat.stack.json)",
-              fmt::format("{} layers, {:.3g} mm, of {}", stack.num_layers(), printed, materials));
+              fmt::format("{} layers, {}, of {}", stack.num_layers(),
+                          thickest - thinnest < 0.005
+                              ? fmt::format("{:.3g} mm", thickest)
+                              : fmt::format("{:.3g} to {:.3g} mm", thinnest, thickest),
+                          materials));
     if (const Eigen::VectorXd* theta2 = run.flat->design_fields.find_vertex("theta2");
         theta2 && theta2->size() > 0) {
       const double t = theta2->cwiseAbs().maxCoeff();

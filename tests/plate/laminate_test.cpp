@@ -346,6 +346,18 @@ TEST(Laminate, BadInputsAreUserErrors) {
   EXPECT_THROW(laminate(s), UserError);
 }
 
+// The thinnest and thickest face: the sum over the layers that cover each face.
+TEST(LayerStack, PrintedThicknessRangeSumsTheLayersCoveringEachFace) {
+  const Material m = paper_material();
+  LayerStack s = shrink_morph_layer_stack(Eigen::VectorXd::Zero(3), Eigen::VectorXd::Zero(3), m,
+                                          4, 0.1);
+  s.layers[3].material(1) = Layer::kNotCovered;  // face 1 lacks the top layer
+  s.layers[2].printed_thickness(2) = 0.3;        // face 2 has a thicker third layer
+  const auto [thinnest, thickest] = printed_thickness_range(s);
+  EXPECT_NEAR(thinnest, 0.3, 1e-12);
+  EXPECT_NEAR(thickest, 0.6, 1e-12);
+}
+
 TEST(LayerStack, PrintingRuleAndSignConvention) {
   // theta^k = theta1 + ((k-1)/(n-1) - 1/2) theta2; bed layer theta1 - theta2/2, top theta1 +
   // theta2/2 (z up from the bed).
