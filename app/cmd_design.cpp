@@ -94,28 +94,6 @@ PrintedSide parse_side(const std::string& side) {
                   fmt::format("--side {}: give auto, normal-up or normal-down", side));
 }
 
-// design.json's metrics as the generic name/value/unit list, the unit read from the key's suffix.
-std::vector<RunMetric> metric_list(const nlohmann::ordered_json& metrics) {
-  constexpr std::pair<const char*, const char*> kUnits[] = {
-      {"_pct", "% of the target's bounding-box diagonal"},
-      {"_s", "s"},
-      {"_rad", "rad"},
-      {"_mm", "mm"},
-      {"_g", "g"}};
-  std::vector<RunMetric> list;
-  for (const auto& [key, value] : metrics.items()) {
-    if (!value.is_number() && !value.is_boolean()) continue;
-    std::string unit;
-    for (const auto& [suffix, name] : kUnits) {
-      if (key.ends_with(suffix)) unit = name;
-    }
-    if (key.ends_with("area_pct") || key.ends_with("deviation_mean_pct")) unit = "%";
-    list.push_back(
-        {key, value.is_boolean() ? (value.get<bool>() ? 1.0 : 0.0) : value.get<double>(), unit});
-  }
-  return list;
-}
-
 nlohmann::ordered_json metrics_json(const DesignMetrics& m) {
   nlohmann::ordered_json j;
   j["faces"] = m.faces;
@@ -265,18 +243,13 @@ int run_design(DesignCliOptions& o, const GlobalOptions& global) {
   run.predicted_deviation_mm = design.dist_to_optim.per_vertex_mm;
   if (loop) {
     // Rigidly fitted to the target, as its distances are measured.
-    const GcodePrediction& p = loop->prediction;
-    Eigen::MatrixXd target(p.plate.kept_vertices.size(), 3);
-    for (Eigen::Index v = 0; v < target.rows(); ++v) {
-      target.row(v) = design.flat.target.V.row(p.plate.kept_vertices(v));
-    }
-    run.gcode_predicted = Mesh{rigidly_aligned(p.result.V, target), p.plate.design.F};
+    run.gcode_predicted = Mesh{loop->on_target, loop->prediction.plate.design.F};
     run.gcode_predicted_deviation_mm = loop->to_target.per_vertex_mm;
   }
   run.print = std::move(plan);
   run.parameters = j;
   run.metrics = metrics;
-  run.metric_list = metric_list(metrics);
+  run.metric_list = run_metric_list(metrics);
   write_run_folder(dir, run, &printer, options.progress);
   const nlohmann::ordered_json record = run_record(run);
   const std::optional<PrintPlan>& plan_written = run.print;

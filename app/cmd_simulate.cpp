@@ -169,8 +169,7 @@ int run_simulate_gcode(const SimulateOptions& o, const GlobalOptions& global) {
                                   o.plate_path));
     }
   }
-  // The header is read once more with the materials: a file without one is simulated all the same.
-  const GcodeHeaderInfo header = read_gcode_deposition(text, o.plate_path, options.read).header;
+  const GcodeHeaderInfo header = read_gcode_header(text);
   std::string materials_from;
   const std::vector<Material> materials = tool_materials(o, header, materials_from);
   const GcodePrediction p = predict_from_gcode(text, o.plate_path, materials, options);
@@ -246,11 +245,7 @@ int run_simulate_gcode(const SimulateOptions& o, const GlobalOptions& global) {
   parameters["plate_to_bed_mm"] = {p.plate_to_bed.x(), p.plate_to_bed.y()};
   run.parameters = parameters;
   run.metrics = metrics;
-  for (const auto& [key, value] : metrics.items()) {
-    run.metric_list.push_back(
-        {key, value.is_boolean() ? (value.get<bool>() ? 1.0 : 0.0) : value.get<double>(),
-         key.ends_with("_pct") ? "% of diagonal" : (key.starts_with("t_") ? "s" : "")});
-  }
+  run.metric_list = run_metric_list(metrics);
   write_ply(o.output, Mesh{predicted, plate.F}, properties);
   write_run_folder(run_dir, run, nullptr);
   if (!global.quiet) fmt::print("wrote {} and {}/\n", o.output, run_dir.string());

@@ -5,14 +5,11 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "common/stopwatch.h"
 #include "plate/laminate.h"
 
 namespace flatmorph {
 namespace {
-
-double seconds_since(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
 
 // The bounding box centre of the first layer's part beads (bed coordinates, mm).
 Eigen::Vector2d first_layer_centre(const GcodeDeposition& deposition) {
@@ -34,12 +31,12 @@ GcodePrediction predict_from_gcode(std::string_view text, const std::string& sou
                                    const std::vector<Material>& tool_materials,
                                    const GcodePredictionOptions& options) {
   GcodePrediction out;
-  auto t0 = std::chrono::steady_clock::now();
+  auto t0 = Clock::now();
   const GcodeDeposition deposition = read_gcode_deposition(text, source, options.read);
   out.read_seconds = seconds_since(t0);
   out.num_beads = static_cast<int>(deposition.beads.size());
 
-  t0 = std::chrono::steady_clock::now();
+  t0 = Clock::now();
   Eigen::MatrixXd V;
   Eigen::MatrixXi F;
   if (options.plate_V.rows() > 0) {
@@ -108,7 +105,8 @@ ClosedLoop close_the_loop(std::string_view gcode, const std::string& source,
   const Eigen::MatrixXd& predicted = loop.prediction.result.V;
   const Eigen::MatrixXd kept_target = rows_of(target, kept);
   const Eigen::MatrixXd kept_fields = rows_of(fields_prediction, kept);
-  loop.to_target = shape_distance(rigidly_aligned(predicted, kept_target), kept_target);
+  loop.on_target = rigidly_aligned(predicted, kept_target);
+  loop.to_target = shape_distance(loop.on_target, kept_target);
   // In % of the target's diagonal, as every other distance of a run.
   ShapeDistance to_fields = shape_distance(rigidly_aligned(predicted, kept_fields), kept_fields);
   const double diagonal = loop.to_target.diagonal_mm;

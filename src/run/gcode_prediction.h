@@ -54,6 +54,7 @@ GcodePrediction predict_from_gcode(std::string_view text, const std::string& sou
 // target's diagonal.
 struct ClosedLoop {
   GcodePrediction prediction;
+  Eigen::MatrixXd on_target;    // its shape, rigidly fitted to the target (kept vertices)
   ShapeDistance to_target;      // the G-code's predicted shape against the target
   ShapeDistance to_prediction;  // ... against the prediction from the design's fields
 };

@@ -90,4 +90,25 @@ void write_run_folder(const std::filesystem::path& dir, const RunOutputs& run,
   });
 }
 
+std::vector<RunMetric> run_metric_list(const nlohmann::ordered_json& metrics) {
+  constexpr std::pair<const char*, const char*> kUnits[] = {
+      {"_pct", "% of the target's bounding-box diagonal"},
+      {"_s", "s"},
+      {"_rad", "rad"},
+      {"_mm", "mm"},
+      {"_g", "g"}};
+  std::vector<RunMetric> list;
+  for (const auto& [key, value] : metrics.items()) {
+    if (!value.is_number() && !value.is_boolean()) continue;
+    const char* unit = "";
+    for (const auto& [suffix, name] : kUnits) {
+      if (key.ends_with(suffix)) unit = name;
+    }
+    if (key.ends_with("area_pct") || key.ends_with("deviation_mean_pct")) unit = "%";
+    list.push_back(
+        {key, value.is_boolean() ? (value.get<bool>() ? 1.0 : 0.0) : value.get<double>(), unit});
+  }
+  return list;
+}
+
 }  // namespace flatmorph

@@ -43,6 +43,10 @@ struct RunOutputs {
   std::vector<RunMetric> metric_list;
 };
 
+// The numbers and flags of a metrics object as RunMetrics, each with the unit its key's suffix
+// names (_pct: % of the target's diagonal, _s, _rad, _mm, _g).
+std::vector<RunMetric> run_metric_list(const nlohmann::ordered_json& metrics);
+
 // design.json's content: run.parameters, then "method", "flatmorph_version", "metrics" and
 // "metrics_list" ([{name, value, unit}]).
 nlohmann::ordered_json run_record(const RunOutputs& run);
