@@ -1,8 +1,11 @@
 // flatmorph calibrate print | fit: print the material samples of Shrink & Morph §4 (or the
-// thickness ramp of SCF 2020 §6), then fit a material file to their measurements.
+// thickness ramp of SCF 2020 §6, or the print-speed ramp of Thermorph Fig. 6), then fit a material
+// file to their measurements. Speeds in mm/s.
 // docs/calibration.md
 #include <fmt/core.h>
+#include <fmt/ranges.h>
 
+#include <algorithm>
 #include <filesystem>
 
 #include "calibration/calibration_print.h"
@@ -31,6 +34,8 @@ struct PrintOptions {
   double thickness = 0.8;
   bool thickness_ramp = false;
   int ramp_layers = 6;
+  bool speed_ramp = false;
+  std::vector<double> print_speeds;  // mm/s
   double spacing = 0;
   double gap = 5;
   std::string output;
@@ -55,17 +60,32 @@ int run_print(const PrintOptions& o, const GlobalOptions& global) {
   }
   const PrinterProfile printer = load_printer(o.printer);
   const Material material = load_material(o.material);
+  if (!o.print_speeds.empty() && !o.speed_ramp) {
+    throw UserError(ErrorCategory::kOption,
+                    "--print-speeds sets the speeds of a speed ramp: add --speed-ramp (the "
+                    "ordinary samples print at the material's print_speed)");
+  }
   CalibrationPrintOptions options;
   options.thickness_ramp = o.thickness_ramp;
+  options.speed_ramp = o.speed_ramp;
   if (!o.nozzle_temps.empty()) {
     options.nozzle_temperatures = o.nozzle_temps;
-  } else if (o.thickness_ramp) {
+  } else if (o.thickness_ramp || o.speed_ramp) {
     options.nozzle_temperatures = {material.nozzle_temperature};
   }
   if (!o.layer_heights.empty()) {
     options.layer_heights = o.layer_heights;
   } else if (o.thickness_ramp) {
     options.layer_heights = {0.08, 0.12, 0.16, 0.20, 0.24, 0.28};
+  } else if (o.speed_ramp) {
+    options.layer_heights = {material.layer_height};
+  }
+  if (!o.print_speeds.empty()) {
+    options.print_speeds = o.print_speeds;
+  } else {
+    // The default speeds stop at what the printer allows (plan_calibration refuses faster ones
+    // when they are asked for).
+    std::erase_if(options.print_speeds, [&](double v) { return v > printer.travel_speed; });
   }
   options.repeats = o.repeats;
   options.length = o.size[0];
@@ -107,9 +127,12 @@ int run_print(const PrintOptions& o, const GlobalOptions& global) {
     fmt::print(
         "{} {} of {} samples ({:g} x {:g} mm, paths {:.3f} mm apart along the length), {} "
         "per set, material {}, printer {}\n",
-        plan.sets.size(), o.thickness_ramp ? "thickness-ramp sets" : "sets", plan.samples.size(),
-        options.length, options.width, plan.extrusion_width, options.repeats, material.name,
-        printer.name);
+        plan.sets.size(),
+        o.thickness_ramp ? "thickness-ramp sets"
+        : o.speed_ramp   ? "speed-ramp sets"
+                         : "sets",
+        plan.samples.size(), options.length, options.width, plan.extrusion_width, options.repeats,
+        material.name, printer.name);
     for (const CalibrationSet& set : plan.sets) {
       fmt::print("  {} ({:.2f} mm thick)\n", set.label(), set.thickness());
     }
@@ -129,13 +152,15 @@ int run_print(const PrintOptions& o, const GlobalOptions& global) {
 int run_fit(const FitOptions& o, const GlobalOptions& global) {
   std::vector<MeasurementSheet> sheets;
   for (const std::string& path : o.sheets) sheets.push_back(read_measurements(path));
+  auto is_ramp = [](const MeasurementSheet& s) { return s.thickness_ramp || s.speed_ramp; };
   bool any_sets = false;
-  for (const MeasurementSheet& s : sheets) any_sets = any_sets || !s.thickness_ramp;
+  for (const MeasurementSheet& s : sheets) any_sets = any_sets || !is_ramp(s);
 
   // Candidates: the sets of the ordinary sheets (or of the ramps when there are none).
   std::vector<SetFit> sets;
   const MeasurementSheet* base_sheet = nullptr;
   std::optional<ThicknessCurve> curve;
+  std::optional<SpeedCurve> speed_curve;
   for (const MeasurementSheet& s : sheets) {
     if (s.thickness_ramp) {
       if (curve) {
@@ -144,7 +169,14 @@ int run_fit(const FitOptions& o, const GlobalOptions& global) {
       }
       curve = fit_thickness_curve(s);
     }
-    if (s.thickness_ramp == any_sets) continue;
+    if (s.speed_ramp) {
+      if (speed_curve) {
+        throw UserError(ErrorCategory::kOption,
+                        fmt::format("{}: a second speed-ramp sheet; give one", s.source));
+      }
+      speed_curve = fit_speed_curve(s);
+    }
+    if (is_ramp(s) == any_sets) continue;
     for (const SetFit& f : fit_sets(s)) {
       if (o.set > 0 && f.set == o.set && base_sheet != nullptr && base_sheet != &s) {
         throw UserError(ErrorCategory::kOption,
@@ -185,35 +217,56 @@ int run_fit(const FitOptions& o, const GlobalOptions& global) {
   const std::string name = o.name.empty() ? out.stem().string() : o.name;
   std::string description = fmt::format(
       "calibrated by flatmorph calibrate fit from {}: set {} ({:g} C, {:g} mm x {} layers, "
-      "{:.2f} mm), {} samples, contraction {:.1f} +- {:.1f} %",
+      "{:.2f} mm{}), {} samples, contraction {:.1f} +- {:.1f} %",
       base_sheet->source, chosen->set, chosen->nozzle_temperature, chosen->layer_height,
-      chosen->layers, chosen->thickness, chosen->samples, chosen->contraction_pct.mean,
-      chosen->contraction_pct.std);
+      chosen->layers, chosen->thickness,
+      chosen->print_speed > 0 ? fmt::format(", {:g} mm/s", chosen->print_speed) : "",
+      chosen->samples, chosen->contraction_pct.mean, chosen->contraction_pct.std);
   if (!chosen->delta_lambda1) description += "; delta_lambda1 not measured (kept the base's)";
   Material fitted = fitted_material(base, *chosen, name, description);
   fitted.thickness_curve = curve;
+  fitted.speed_curve = speed_curve;
+  // The material file's checks on the whole, before anything is written: a speed curve must cover
+  // the print_speed the written set was measured at.
+  try {
+    parse_material_json(material_json(fitted), "the fitted material");
+  } catch (const UserError& e) {
+    throw UserError(ErrorCategory::kFormat,
+                    fmt::format("{}: {}", fmt::join(o.sheets, ", "), e.what()));
+  }
 
-  const fs::path plot = o.plot.empty() ? fs::path(out).replace_extension(".svg") : fs::path(o.plot);
-  create_output_folder(out.parent_path());
-  write_material(out, fitted);
   std::vector<SetFit> all;
   for (const MeasurementSheet& s : sheets) {
     for (const SetFit& f : fit_sets(s)) all.push_back(f);
   }
-  write_text(plot, contraction_plot_svg(all, curve));
+  const bool plot_speeds =
+      std::any_of(all.begin(), all.end(), [](const SetFit& f) { return f.speed_ramp; });
+  const bool plot_heights =
+      std::any_of(all.begin(), all.end(), [](const SetFit& f) { return !f.speed_ramp; });
+  const fs::path plot = o.plot.empty() ? fs::path(out).replace_extension(".svg") : fs::path(o.plot);
+  // One plot per x axis: the speed ramp's beside the layer heights' when there are both.
+  const fs::path speed_plot =
+      plot_heights
+          ? plot.parent_path() / (plot.stem().string() + "-speed" + plot.extension().string())
+          : plot;
+  create_output_folder(out.parent_path());
+  write_material(out, fitted);
+  if (plot_heights) write_text(plot, contraction_plot_svg(all, curve));
+  if (plot_speeds) write_text(speed_plot, speed_contraction_plot_svg(all, speed_curve));
 
   if (!global.quiet) {
     fmt::print(
-        "rank  set  nozzle C  layer mm  layers  n   lambda1        lambda2        "
+        "rank  set  nozzle C  layer mm  layers  mm/s   n   lambda1        lambda2        "
         "lambda3        contraction %   curvature /mm      delta_lambda1\n");
     for (size_t r = 0; r < ranked.size(); ++r) {
       const SetFit& f = ranked[r];
       fmt::print(
-          "{:>4}  {:>3}  {:>8g}  {:>8g}  {:>6}  {:>2}  {:.3f}+-{:.3f}  {:.3f}+-{:.3f}  "
+          "{:>4}  {:>3}  {:>8g}  {:>8g}  {:>6}  {:>4}  {:>2}  {:.3f}+-{:.3f}  {:.3f}+-{:.3f}  "
           "{:.3f}+-{:.3f}  {:>5.1f}+-{:<5.1f}   {}  {}{}\n",
-          r + 1, f.set, f.nozzle_temperature, f.layer_height, f.layers, f.samples, f.lambda1.mean,
-          f.lambda1.std, f.lambda2.mean, f.lambda2.std, f.lambda3.mean, f.lambda3.std,
-          f.contraction_pct.mean, f.contraction_pct.std,
+          r + 1, f.set, f.nozzle_temperature, f.layer_height, f.layers,
+          f.print_speed > 0 ? fmt::format("{:g}", f.print_speed) : std::string("-"), f.samples,
+          f.lambda1.mean, f.lambda1.std, f.lambda2.mean, f.lambda2.std, f.lambda3.mean,
+          f.lambda3.std, f.contraction_pct.mean, f.contraction_pct.std,
           f.curvature ? fmt::format("{:.4f}+-{:.4f}", f.curvature->mean, f.curvature->std)
                       : std::string("    (not measured)"),
           f.delta_lambda1
@@ -229,8 +282,18 @@ int run_fit(const FitOptions& o, const GlobalOptions& global) {
           curve->layers, lambda1_at_layer_height(*curve, curve->min_layer_height),
           lambda1_at_layer_height(*curve, curve->max_layer_height));
     }
-    fmt::print("wrote {} (use it with --material {}) and {}\n", out.string(), out.string(),
-               plot.string());
+    if (speed_curve) {
+      fmt::print(
+          "speed curve: lambda1(v), degree {}, for print speeds {:g} to {:g} mm/s ({:g} mm "
+          "layers): lambda1 {:.3f} to {:.3f}; print_speed {:g} mm/s is the reference\n",
+          speed_curve->lambda1_coefficients.size() - 1, speed_curve->min_print_speed,
+          speed_curve->max_print_speed, speed_curve->layer_height,
+          lambda1_at_print_speed(*speed_curve, speed_curve->min_print_speed),
+          lambda1_at_print_speed(*speed_curve, speed_curve->max_print_speed), fitted.print_speed);
+    }
+    fmt::print("wrote {} (use it with --material {}) and {}{}\n", out.string(), out.string(),
+               plot_heights ? plot.string() : speed_plot.string(),
+               plot_heights && plot_speeds ? " and " + speed_plot.string() : "");
   }
   return 0;
 }
@@ -241,8 +304,8 @@ Command make_calibrate_command(CLI::App& app, const GlobalOptions& global) {
   CLI::App* sub = app.add_subcommand(
       "calibrate",
       "Measure your own filament: 'calibrate print' writes G-code for test samples (one set per "
-      "nozzle temperature and layer height), 'calibrate fit' turns their measurements into a "
-      "material file (docs/calibration.md).");
+      "nozzle temperature and layer height, or per layer height or print speed for the ramps), "
+      "'calibrate fit' turns their measurements into a material file (docs/calibration.md).");
   sub->require_subcommand(1);
 
   auto p = std::make_shared<PrintOptions>();
@@ -260,13 +323,13 @@ Command make_calibrate_command(CLI::App& app, const GlobalOptions& global) {
       ->required();
   print
       ->add_option("--nozzle-temps", p->nozzle_temps,
-                   "Nozzle temperatures, C (default 190,200,210; with --thickness-ramp the "
-                   "material's)")
+                   "Nozzle temperatures, C (default 190,200,210; with --thickness-ramp or "
+                   "--speed-ramp the material's)")
       ->delimiter(',');
   print
       ->add_option("--layer-heights", p->layer_heights,
                    "Layer heights, mm (default 0.08,0.12,0.16; with --thickness-ramp "
-                   "0.08,0.12,...,0.28)")
+                   "0.08,0.12,...,0.28; with --speed-ramp the material's)")
       ->delimiter(',');
   print->add_option("--repeats", p->repeats, "Samples per set")->capture_default_str();
   print->add_option("--size", p->size, "Sample LENGTH,WIDTH in mm")
@@ -282,6 +345,18 @@ Command make_calibrate_command(CLI::App& app, const GlobalOptions& global) {
                   "over a range of layer heights, one nozzle temperature");
   print->add_option("--ramp-layers", p->ramp_layers, "Layers of a thickness-ramp sample")
       ->capture_default_str();
+  print->add_flag("--speed-ramp", p->speed_ramp,
+                  "Print-speed calibration (Thermorph Fig. 6: faster printing stores more stretch, "
+                  "so lambda1 gets smaller): one set per --print-speeds at one layer height and "
+                  "nozzle temperature (default: the material's); every layer but the first at the "
+                  "set's speed, the first at the material's first-layer speed so that it sticks. "
+                  "'calibrate fit' on its sheet adds the material's speed curve lambda1(v)");
+  print
+      ->add_option("--print-speeds", p->print_speeds,
+                   "Speeds of a speed ramp, mm/s, at most the printer's travel speed (default "
+                   "20,40,60,90,120,150, those the printer allows; Thermorph's 1500-9000 mm/min "
+                   "are 25-150 mm/s)")
+      ->delimiter(',');
   print->add_option("--spacing", p->spacing,
                     "Distance between paths = extrusion width, mm (default: the nozzle diameter)");
   print->add_option("--gap", p->gap, "Gap between samples, mm")->capture_default_str();
@@ -293,8 +368,10 @@ Command make_calibrate_command(CLI::App& app, const GlobalOptions& global) {
       "Fit a material file to the filled-in measurement CSV(s) of 'calibrate print': lambda1, "
       "lambda2, lambda3 (mean and std per set), the contraction, delta_lambda1 = -h lambda3 "
       "lambda1 kappa from the curl (Shrink & Morph §4.2); ranks the sets by contraction and "
-      "writes the best (or --set); a thickness-ramp CSV adds the thickness curve. Also writes "
-      "OUT.svg, contraction vs layer height per temperature (Fig. 8).");
+      "writes the best (or --set); a thickness-ramp CSV adds the thickness curve, a speed-ramp CSV "
+      "the speed curve (a set of a speed ramp also sets print_speed, the speed it was measured "
+      "at). Also writes OUT.svg, contraction vs layer height per temperature (Fig. 8), or vs "
+      "print speed for a speed ramp (OUT-speed.svg beside other sheets).");
   fit->add_option("measurements", f->sheets, "Filled-in CSV file(s)")->required();
   fit->add_option("-o,--output", f->output, "Material file to write (JSON)")->required();
   fit->add_option("--set", f->set, "Write this set instead of the best one (the set column)");

@@ -21,10 +21,59 @@ UserError option_error(const std::string& message) {
   return UserError(ErrorCategory::kOption, message);
 }
 
+bool has_duplicates(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return std::adjacent_find(v.begin(), v.end()) != v.end();
+}
+
+void validate_speed_ramp(const PrinterProfile& printer, const CalibrationPrintOptions& o) {
+  if (o.nozzle_temperatures.size() != 1 || o.layer_heights.size() != 1) {
+    throw option_error(fmt::format(
+        "--speed-ramp prints one nozzle temperature and one layer height, {} and {} were given "
+        "({} C; {} mm): give one of each with --nozzle-temps and --layer-heights (default: the "
+        "material's)",
+        o.nozzle_temperatures.size(), o.layer_heights.size(), fmt::join(o.nozzle_temperatures, ","),
+        fmt::join(o.layer_heights, ",")));
+  }
+  if (o.print_speeds.empty()) throw option_error("--speed-ramp needs at least one print speed");
+  // The profile has no extrusion speed limit of its own: its travel speed is the fastest it
+  // lets the head move.
+  for (double v : o.print_speeds) {
+    if (!(v >= 1)) {
+      throw option_error(
+          fmt::format("print speed {:g} mm/s: give speeds of 1 mm/s or more (in mm/s, not the "
+                      "mm/min of a G-code feed rate)",
+                      v));
+    }
+    if (v > printer.travel_speed) {
+      throw option_error(fmt::format(
+          "print speed {:g} mm/s is above {:g} mm/s, the travel speed of printer {} and the "
+          "fastest its profile moves the head: give --print-speeds up to {:g} mm/s, or a printer "
+          "profile with a higher speeds.travel",
+          v, printer.travel_speed, printer.name, printer.travel_speed));
+    }
+  }
+  if (has_duplicates(o.print_speeds)) {
+    throw option_error("a print speed is listed twice: list each once");
+  }
+  if (std::lround(o.thickness / o.layer_heights.front()) < 2) {
+    throw option_error(
+        fmt::format("a speed-ramp sample of {:g} mm at {:g} mm layers has one layer, printed at "
+                    "the first-layer speed whatever the set's speed: give a --thickness of two "
+                    "layers or more",
+                    o.thickness, o.layer_heights.front()));
+  }
+}
+
 void validate(const PrinterProfile& printer, const Material& material,
               const CalibrationPrintOptions& o) {
   if (o.nozzle_temperatures.empty() || o.layer_heights.empty()) {
     throw option_error("give at least one nozzle temperature and one layer height");
+  }
+  if (o.thickness_ramp && o.speed_ramp) {
+    throw option_error(
+        "--thickness-ramp and --speed-ramp are two calibrations, each with its own measurement "
+        "sheet: print them one at a time");
   }
   if (o.thickness_ramp && o.nozzle_temperatures.size() != 1) {
     throw option_error(
@@ -49,10 +98,6 @@ void validate(const PrinterProfile& printer, const Material& material,
           h, max_height, printer.nozzle_diameter));
     }
   }
-  auto has_duplicates = [](std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    return std::adjacent_find(v.begin(), v.end()) != v.end();
-  };
   if (has_duplicates(o.nozzle_temperatures) || has_duplicates(o.layer_heights)) {
     throw option_error("a nozzle temperature or layer height is listed twice: list each once");
   }
@@ -82,6 +127,7 @@ void validate(const PrinterProfile& printer, const Material& material,
     throw option_error(
         fmt::format("notch depth {:g} mm: give 1 mm to a quarter of the length", o.notch_depth));
   }
+  if (o.speed_ramp) validate_speed_ramp(printer, o);
 }
 
 // The printable rectangle, centred on the origin (mm): the bed less the margin; the inscribed
@@ -109,8 +155,10 @@ PathPolyline line(const Eigen::Vector2d& a, const Eigen::Vector2d& b, double z,
 }  // namespace
 
 std::string CalibrationSet::label() const {
-  return fmt::format("set {}: {:g} C, {:g} mm x {} layers", id, nozzle_temperature, layer_height,
-                     layers);
+  std::string label = fmt::format("set {}: {:g} C, {:g} mm x {} layers", id, nozzle_temperature,
+                                  layer_height, layers);
+  if (print_speed > 0) label += fmt::format(", {:g} mm/s", print_speed);
+  return label;
 }
 
 std::vector<bool> notch_code(int id, int bits) {
@@ -128,15 +176,20 @@ CalibrationPlan plan_calibration(const PrinterProfile& printer, const Material& 
   plan.paths_per_layer = std::max(1, static_cast<int>(std::lround(o.width / spacing)));
   plan.extrusion_width = o.width / plan.paths_per_layer;
 
+  // A speed ramp has one temperature and one height (validate): its sets differ by speed alone.
+  const std::vector<double> speeds = o.speed_ramp ? o.print_speeds : std::vector<double>{0.0};
   for (double t : o.nozzle_temperatures) {
     for (double h : o.layer_heights) {
-      CalibrationSet set;
-      set.id = static_cast<int>(plan.sets.size()) + 1;
-      set.nozzle_temperature = t;
-      set.layer_height = h;
-      set.layers = o.thickness_ramp ? o.ramp_layers
-                                    : std::max(1, static_cast<int>(std::lround(o.thickness / h)));
-      plan.sets.push_back(set);
+      for (double v : speeds) {
+        CalibrationSet set;
+        set.id = static_cast<int>(plan.sets.size()) + 1;
+        set.nozzle_temperature = t;
+        set.layer_height = h;
+        set.layers = o.thickness_ramp ? o.ramp_layers
+                                      : std::max(1, static_cast<int>(std::lround(o.thickness / h)));
+        set.print_speed = v;
+        plan.sets.push_back(set);
+      }
     }
   }
   const int count = static_cast<int>(plan.sets.size()) * o.repeats;
@@ -222,6 +275,9 @@ CalibrationPlan plan_calibration(const PrinterProfile& printer, const Material& 
       style.width = plan.extrusion_width;
       style.layer_height = set.layer_height;
       for (int k = 1; k <= set.layers; ++k) {
+        // The set's speed from the second layer on; 0 leaves the first to the writer's first-layer
+        // speed (and the ordinary sets to the material's speeds).
+        style.feed_rate = k > 1 ? set.print_speed : 0.0;
         ToolpathLayer layer;
         layer.z = k * set.layer_height;
         layer.height = set.layer_height;
@@ -297,20 +353,31 @@ std::string calibration_csv_template(const CalibrationPlan& plan, const Material
       "that chord, > 0 under the same rule (curvature = 2 rise / (rise^2 + chord^2 / 4)).");
   comment("Write skip in length_after for a sample that was lost or broke.");
   for (const std::string& s : calibration_notch_legend(plan)) comment(s);
-  comment(fmt::format("kind = {}", o.thickness_ramp ? "thickness-ramp" : "sets"));
+  comment(fmt::format("kind = {}", o.thickness_ramp ? "thickness-ramp"
+                                   : o.speed_ramp   ? "speed-ramp"
+                                                    : "sets"));
+  if (o.speed_ramp) {
+    comment(fmt::format(
+        "print_speed (mm/s): every layer of the set but the first, which is printed at the "
+        "material's first-layer speed ({:g} mm/s) so that it sticks",
+        material.first_layer_speed));
+  }
   comment(fmt::format("samples = {}", plan.samples.size()));
   comment(fmt::format("printer = {}", printer.name));
   comment(fmt::format("extrusion_width = {:g}", plan.extrusion_width));
   // One line: the material the samples were printed with (speeds, bed, fan ...), read back by
   // `calibrate fit` to write the fitted material with the same printing parameters.
   comment("material = " + nlohmann::ordered_json::parse(material_json(material)).dump());
-  out +=
-      "sample,set,plate,nozzle_temperature,layer_height,layers,length_before,width_before,"
-      "thickness_before,length_after,width_after,thickness_after,curvature,rise,chord\n";
+  // The speed column only on a speed ramp, where it is what the sets differ by.
+  out += fmt::format(
+      "sample,set,plate,nozzle_temperature,layer_height,layers,{}length_before,width_before,"
+      "thickness_before,length_after,width_after,thickness_after,curvature,rise,chord\n",
+      o.speed_ramp ? "print_speed," : "");
   for (const CalibrationSample& s : plan.samples) {
     const CalibrationSet& set = plan.sets[static_cast<size_t>(s.set - 1)];
-    out += fmt::format("{},{},{},{:g},{:g},{},{:g},{:g},{:g},,,,,,\n", s.id, s.set, s.plate,
-                       set.nozzle_temperature, set.layer_height, set.layers, o.length, o.width,
+    out += fmt::format("{},{},{},{:g},{:g},{},{}{:g},{:g},{:g},,,,,,\n", s.id, s.set, s.plate,
+                       set.nozzle_temperature, set.layer_height, set.layers,
+                       o.speed_ramp ? fmt::format("{:g},", set.print_speed) : "", o.length, o.width,
                        set.thickness());
   }
   return out;

@@ -3,10 +3,13 @@
 // temperature and layer height, each set printed from the bed up with its own temperature (a
 // PrintSection of the G-code writer). With `thickness_ramp`, the layer-thickness calibration of
 // SCF 2020 §6 / Geodesy §3 instead: samples of a fixed number of layers (6) over a range of layer
-// heights. Every sample carries its id as a notch code on its +x end (calibration_notch_legend()),
-// so it can be told apart after shrinking. Sets are laid out in disjoint rectangles on the bed,
-// onto several plates (G-code files) when they do not fit on one. Lengths in mm, temperatures in
-// degrees C; plate coordinates are centred on the plate's middle, x along the samples' length.
+// heights. With `speed_ramp`, the print-speed calibration of Thermorph (Fig. 6) instead: samples at
+// one layer height, one set per print speed, every layer but the first at that speed (the first
+// keeps the material's first-layer speed, so that it sticks). Every sample carries its id as a
+// notch code on its +x end (calibration_notch_legend()), so it can be told apart after shrinking.
+// Sets are laid out in disjoint rectangles on the bed, onto several plates (G-code files) when they
+// do not fit on one. Lengths in mm, temperatures in degrees C, speeds in mm/s; plate coordinates
+// are centred on the plate's middle, x along the samples' length.
 #pragma once
 
 #include <Eigen/Core>
@@ -29,11 +32,15 @@ struct CalibrationPrintOptions {
   double thickness = 0.8;       // mm; a set prints round(thickness / layer height) layers
   bool thickness_ramp = false;  // print `ramp_layers` layers at every layer height instead
   int ramp_layers = 6;          // SCF 2020 §6
-  double spacing = 0;           // distance between paths (mm); 0: the printer's nozzle diameter
-  double gap = 5;               // mm between the samples of a set
-  double set_gap = 10;          // mm between sets
-  double margin = 10;           // mm kept free along the bed's edge
-  double notch_depth = 4;       // mm, depth of the code notches
+  // One set per speed (mm/s) at the one nozzle temperature and layer height given instead
+  // (Thermorph varies 1500-9000 mm/min = 25-150 mm/s); at most the printer's travel speed.
+  bool speed_ramp = false;
+  std::vector<double> print_speeds = {20, 40, 60, 90, 120, 150};
+  double spacing = 0;      // distance between paths (mm); 0: the printer's nozzle diameter
+  double gap = 5;          // mm between the samples of a set
+  double set_gap = 10;     // mm between sets
+  double margin = 10;      // mm kept free along the bed's edge
+  double notch_depth = 4;  // mm, depth of the code notches
 };
 
 struct CalibrationSet {
@@ -41,8 +48,9 @@ struct CalibrationSet {
   double nozzle_temperature = 0;
   double layer_height = 0;
   int layers = 0;
+  double print_speed = 0;  // mm/s of every layer but the first (speed ramp); 0: the material's
   double thickness() const { return layers * layer_height; }
-  std::string label() const;  // "set 2: 200 C, 0.08 mm x 10 layers"
+  std::string label() const;  // "set 2: 200 C, 0.08 mm x 10 layers[, 60 mm/s]"
 };
 
 struct CalibrationSample {
@@ -72,7 +80,8 @@ struct CalibrationPlan {
 
 // The samples, their layout and their toolpaths for `printer`. Throws UserError(kOption) for
 // options out of range (temperatures outside the material's safe range, layer heights above 80 %
-// of the nozzle, too many samples for the notch code) and UserError(kInfeasible) when one set does
+// of the nozzle, print speeds above the printer's travel speed, both ramps at once, too many
+// samples for the notch code) and UserError(kInfeasible) when one set does
 // not fit the bed.
 CalibrationPlan plan_calibration(const PrinterProfile& printer, const Material& material,
                                  const CalibrationPrintOptions& options);

@@ -110,7 +110,7 @@ class Row {
   std::vector<std::string_view> cells_;
 };
 
-SampleMeasurement parse_row(const Row& r, int line, bool needs_curvature) {
+SampleMeasurement parse_row(const Row& r, int line, const MeasurementSheet& sheet) {
   SampleMeasurement m;
   m.line = line;
   m.sample = r.whole("sample");
@@ -118,6 +118,9 @@ SampleMeasurement parse_row(const Row& r, int line, bool needs_curvature) {
   m.nozzle_temperature = r.positive("nozzle_temperature");
   m.layer_height = r.positive("layer_height");
   m.layers = r.whole("layers");
+  if (sheet.speed_ramp) m.print_speed = r.positive("print_speed");
+  // The ramps calibrate lambda1 alone; the curl (Delta lambda1) comes from the ordinary sets.
+  const bool needs_curvature = !sheet.thickness_ramp && !sheet.speed_ramp;
   m.length_before = r.positive("length_before");
   m.width_before = r.positive("width_before");
   m.thickness_before = r.positive("thickness_before");
@@ -218,13 +221,14 @@ MeasurementSheet parse_measurements(std::string_view text, const std::string& so
       const std::string key(trim(body.substr(0, eq)));
       const std::string_view value = trim(body.substr(eq + 3));
       if (key == "kind") {
-        if (value != "sets" && value != "thickness-ramp") {
+        if (value != "sets" && value != "thickness-ramp" && value != "speed-ramp") {
           throw UserError(ErrorCategory::kFormat,
-                          fmt::format("{}: line {}: kind \"{}\" is neither sets nor "
-                                      "thickness-ramp; keep the template's line",
+                          fmt::format("{}: line {}: kind \"{}\" is none of sets, thickness-ramp, "
+                                      "speed-ramp; keep the template's line",
                                       source, line, value));
         }
         sheet.thickness_ramp = value == "thickness-ramp";
+        sheet.speed_ramp = value == "speed-ramp";
       } else if (key == "samples") {
         int n = 0;
         const auto [ptr, ec] = std::from_chars(value.data(), value.data() + value.size(), n);
@@ -253,6 +257,13 @@ MeasurementSheet parse_measurements(std::string_view text, const std::string& so
                                       source, line, column, fmt::join(kRequiredColumns, ",")));
         }
       }
+      if (sheet.speed_ramp && std::find(names.begin(), names.end(), "print_speed") == names.end()) {
+        throw UserError(ErrorCategory::kFormat,
+                        fmt::format("{}: line {}: no column \"print_speed\", which a speed-ramp "
+                                    "sheet needs (mm/s); start from the CSV that 'flatmorph "
+                                    "calibrate print --speed-ramp' wrote",
+                                    source, line));
+      }
       continue;
     }
     std::vector<std::string_view> cells = split(raw);
@@ -265,7 +276,7 @@ MeasurementSheet parse_measurements(std::string_view text, const std::string& so
                       source, line, names.size() + 1, cells.size(), header_line, names.size()));
     }
     const Row row(source, line, names, std::move(cells));
-    rows.push_back(parse_row(row, line, !sheet.thickness_ramp));
+    rows.push_back(parse_row(row, line, sheet));
   }
   if (names.empty() || rows.empty()) {
     throw UserError(ErrorCategory::kFormat,
@@ -287,7 +298,8 @@ MeasurementSheet parse_measurements(std::string_view text, const std::string& so
       for (const auto& [column, a, b] :
            {std::tuple{"nozzle_temperature", first.nozzle_temperature, m.nozzle_temperature},
             std::tuple{"layer_height", first.layer_height, m.layer_height},
-            std::tuple{"layers", double(first.layers), double(m.layers)}}) {
+            std::tuple{"layers", double(first.layers), double(m.layers)},
+            std::tuple{"print_speed", first.print_speed, m.print_speed}}) {
         if (a != b) {
           row.fail(column, fmt::format("set {} has {} here but {} on line {}; the rows of a set "
                                        "share their printing parameters",

@@ -24,6 +24,7 @@ struct SampleMeasurement {
   double nozzle_temperature = 0;  // degrees C
   double layer_height = 0;        // mm
   int layers = 0;
+  double print_speed = 0;  // mm/s of every layer but the first: a speed-ramp sheet's column; 0 else
   double length_before = 0, width_before = 0, thickness_before = 0;  // as printed
   double length_after = 0, width_after = 0, thickness_after = 0;     // after heating
   // Signed curvature of the shrunk sample, > 0 when its top face is on the inside of the curl
@@ -35,6 +36,7 @@ struct SampleMeasurement {
 struct MeasurementSheet {
   std::string source;                // the file, for messages
   bool thickness_ramp = false;       // "# kind = thickness-ramp"
+  bool speed_ramp = false;           // "# kind = speed-ramp" (it has a print_speed column)
   int expected_samples = -1;         // "# samples = N" (-1: not stated)
   int expected_samples_line = 0;     // the line that states it
   std::optional<Material> material;  // "# material = {...}": what the samples were printed with
@@ -43,7 +45,8 @@ struct MeasurementSheet {
 
 // Parses a sheet; `source` names it in messages. Checks every cell (a missing value, a value that
 // is not a number, a length that grew along the path, a ratio no material has, sets whose
-// parameters differ between rows, a repeated sample id, a row count other than the template's).
+// parameters differ between rows, a speed-ramp sheet without its print_speed column, a repeated
+// sample id, a row count other than the template's).
 MeasurementSheet parse_measurements(std::string_view text, const std::string& source);
 
 // Reads and parses the sheet at `path` (UserError kFile when it cannot be read).

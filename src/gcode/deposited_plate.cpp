@@ -7,7 +7,7 @@
 #include <map>
 
 #include "common/error.h"
-#include "material/thickness_curve.h"
+#include "material/material.h"
 #include "mesh/topology.h"
 
 namespace flatmorph {
@@ -493,14 +493,10 @@ DepositedPlate deposited_plate(const GcodeDeposition& deposition, const Eigen::M
       printed.material(i) = t;
       printed.printed_thickness(i) = thickness;
       printed.theta(i) = layer.theta(i);
-      double lambda1 = m.lambda1;
-      if (m.thickness_curve) {
-        // The curve is a function of the bead's own height, not of the smeared thickness.
-        const double height = thickness / std::max(layer.coverage(i), 1e-9);
-        lambda1 = lambda1_at_layer_height(*m.thickness_curve,
-                                          std::clamp(height, m.thickness_curve->min_layer_height,
-                                                     m.thickness_curve->max_layer_height));
-      }
+      // The curves are functions of the bead's own height, not of the smeared thickness, and of
+      // the speed it was laid at (feed rates are mm/min).
+      const double height = thickness / std::max(layer.coverage(i), 1e-9);
+      const double lambda1 = printed_lambda1(m, height, layer.feed_rate(i) / 60);
       const double mid = (z(i) + thickness / 2) / total(i) - 0.5;
       printed.lambda1(i) = lambda1 + mid * m.delta_lambda1;
       printed.delta_lambda1(i) = m.delta_lambda1 * thickness / total(i);

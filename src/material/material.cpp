@@ -51,69 +51,110 @@ std::vector<std::string> known_keys() {
   std::vector<std::string> keys = {"name", "description"};
   for (const NumberKey& k : kNumberKeys) keys.emplace_back(k.key);
   keys.emplace_back("thickness_curve");
+  keys.emplace_back("speed_curve");
   return keys;
 }
 
-// The optional "thickness_curve" object (thickness_curve.h).
-ThicknessCurve parse_thickness_curve(const nlohmann::json& j, const std::string& source) {
-  const std::string where = fmt::format("{}: \"thickness_curve\"", source);
-  if (!j.is_object()) {
-    throw UserError(ErrorCategory::kProfile,
-                    fmt::format("{} must be an object {{\"lambda1_coefficients\": [...], "
-                                "\"min_layer_height\": ..., \"max_layer_height\": ...}}",
-                                where));
-  }
-  const std::vector<std::string> keys = {"description",      "lambda1_coefficients",
-                                         "min_layer_height", "max_layer_height",
-                                         "layers",           "nozzle_temperature"};
-  for (const auto& [key, value] : j.items()) {
-    if (std::find(keys.begin(), keys.end(), key) == keys.end()) {
-      throw UserError(ErrorCategory::kProfile, fmt::format("{}: unknown key \"{}\"; it may hold {}",
-                                                           where, key, fmt::join(keys, ", ")));
+// One of the optional curve objects ("thickness_curve", "speed_curve"), read with errors that name
+// the file and the key.
+class CurveReader {
+ public:
+  // `keys`: those the object may hold; `shape`: the object as a user writes it, for the error when
+  // it is no object.
+  CurveReader(const nlohmann::json& j, const std::string& source, const char* key,
+              const std::vector<std::string>& keys, const std::string& shape)
+      : j_(j), where_(fmt::format("{}: \"{}\"", source, key)) {
+    if (!j.is_object()) fail(fmt::format("must be an object {}", shape));
+    for (const auto& [name, value] : j.items()) {
+      if (std::find(keys.begin(), keys.end(), name) == keys.end()) {
+        throw UserError(ErrorCategory::kProfile,
+                        fmt::format("{}: unknown key \"{}\"; it may hold {}", where_, name,
+                                    fmt::join(keys, ", ")));
+      }
     }
   }
-  auto number = [&](const char* key, bool required, double fallback) {
-    if (!j.contains(key)) {
-      if (required) {
-        throw UserError(ErrorCategory::kProfile, fmt::format("{} lacks \"{}\"", where, key));
-      }
+
+  [[noreturn]] void fail(const std::string& problem) const {
+    throw UserError(ErrorCategory::kProfile, fmt::format("{} {}", where_, problem));
+  }
+
+  double number(const char* key, bool required, double fallback) const {
+    if (!j_.contains(key)) {
+      if (required) fail(fmt::format("lacks \"{}\"", key));
       return fallback;
     }
-    if (!j[key].is_number()) {
+    if (!j_[key].is_number()) {
       throw UserError(ErrorCategory::kProfile, fmt::format("{}: \"{}\" must be a number, not {}",
-                                                           where, key, j[key].dump()));
+                                                           where_, key, j_[key].dump()));
     }
-    return j[key].get<double>();
-  };
+    return j_[key].get<double>();
+  }
+
+  // "lambda1_coefficients": `variable` says what x is, e.g. "h in mm".
+  std::vector<double> coefficients(const std::string& variable) const {
+    if (!j_.contains("lambda1_coefficients") || !j_["lambda1_coefficients"].is_array()) {
+      fail(
+          fmt::format("needs \"lambda1_coefficients\": an array of 1 to 5 numbers c0, c1, ... "
+                      "with lambda1 = c0 + c1 x + c2 x^2 + ... ({})",
+                      variable));
+    }
+    std::vector<double> c;
+    for (const nlohmann::json& x : j_["lambda1_coefficients"]) {
+      if (!x.is_number()) {
+        throw UserError(
+            ErrorCategory::kProfile,
+            fmt::format("{}: \"lambda1_coefficients\" holds {}, not a number", where_, x.dump()));
+      }
+      c.push_back(x.get<double>());
+    }
+    return c;
+  }
+
+  // Refuses a curve its own check finds unusable.
+  void require_usable(const std::string& problem) const {
+    if (!problem.empty()) fail(fmt::format("is unusable: {}; calibrate again", problem));
+  }
+
+ private:
+  const nlohmann::json& j_;
+  std::string where_;
+};
+
+// The optional "thickness_curve" object (thickness_curve.h).
+ThicknessCurve parse_thickness_curve(const nlohmann::json& j, const std::string& source) {
+  const CurveReader r(j, source, "thickness_curve",
+                      {"description", "lambda1_coefficients", "min_layer_height",
+                       "max_layer_height", "layers", "nozzle_temperature"},
+                      "{\"lambda1_coefficients\": [...], \"min_layer_height\": ..., "
+                      "\"max_layer_height\": ...}");
   ThicknessCurve curve;
-  if (!j.contains("lambda1_coefficients") || !j["lambda1_coefficients"].is_array()) {
-    throw UserError(ErrorCategory::kProfile,
-                    fmt::format("{} needs \"lambda1_coefficients\": an array of 1 to 5 numbers "
-                                "c0, c1, ... with lambda1(h) = c0 + c1 h + ... (h in mm)",
-                                where));
-  }
-  for (const nlohmann::json& c : j["lambda1_coefficients"]) {
-    if (!c.is_number()) {
-      throw UserError(
-          ErrorCategory::kProfile,
-          fmt::format("{}: \"lambda1_coefficients\" holds {}, not a number", where, c.dump()));
-    }
-    curve.lambda1_coefficients.push_back(c.get<double>());
-  }
-  curve.min_layer_height = number("min_layer_height", true, 0);
-  curve.max_layer_height = number("max_layer_height", true, 0);
-  const double layers = number("layers", false, curve.layers);
+  curve.lambda1_coefficients = r.coefficients("x = h, the layer height in mm");
+  curve.min_layer_height = r.number("min_layer_height", true, 0);
+  curve.max_layer_height = r.number("max_layer_height", true, 0);
+  const double layers = r.number("layers", false, curve.layers);
   if (layers != std::floor(layers) || layers < 1 || layers > 1000) {
-    throw UserError(
-        ErrorCategory::kProfile,
-        fmt::format("{}: \"layers\" is {}, expected a whole number of layers", where, layers));
+    r.fail(fmt::format("has \"layers\": {}, expected a whole number of layers", layers));
   }
   curve.layers = static_cast<int>(layers);
-  curve.nozzle_temperature = number("nozzle_temperature", false, 0);
-  if (const std::string problem = thickness_curve_problem(curve); !problem.empty()) {
-    throw UserError(ErrorCategory::kProfile,
-                    fmt::format("{} is unusable: {}; calibrate again", where, problem));
-  }
+  curve.nozzle_temperature = r.number("nozzle_temperature", false, 0);
+  r.require_usable(thickness_curve_problem(curve));
+  return curve;
+}
+
+// The optional "speed_curve" object (speed_curve.h).
+SpeedCurve parse_speed_curve(const nlohmann::json& j, const std::string& source) {
+  const CurveReader r(j, source, "speed_curve",
+                      {"description", "lambda1_coefficients", "min_print_speed", "max_print_speed",
+                       "layer_height", "nozzle_temperature"},
+                      "{\"lambda1_coefficients\": [...], \"min_print_speed\": ..., "
+                      "\"max_print_speed\": ...} (mm/s)");
+  SpeedCurve curve;
+  curve.lambda1_coefficients = r.coefficients("x = v, the print speed in mm/s");
+  curve.min_print_speed = r.number("min_print_speed", true, 0);
+  curve.max_print_speed = r.number("max_print_speed", true, 0);
+  curve.layer_height = r.number("layer_height", false, 0);
+  curve.nozzle_temperature = r.number("nozzle_temperature", false, 0);
+  r.require_usable(speed_curve_problem(curve));
   return curve;
 }
 
@@ -158,6 +199,22 @@ Material parse_material(const nlohmann::json& j, const std::string& source, std:
   }
   if (j.contains("thickness_curve")) {
     m.thickness_curve = parse_thickness_curve(j["thickness_curve"], source);
+  }
+  if (j.contains("speed_curve")) {
+    m.speed_curve = parse_speed_curve(j["speed_curve"], source);
+    const SpeedCurve& c = *m.speed_curve;
+    // A relative slack: the speeds come back from text.
+    const double slack = 1e-9 * c.max_print_speed;
+    if (!(m.print_speed >= c.min_print_speed - slack &&
+          m.print_speed <= c.max_print_speed + slack)) {
+      throw UserError(
+          ErrorCategory::kProfile,
+          fmt::format("{}: print_speed {:g} mm/s lies outside the calibrated range [{:g}, {:g}] "
+                      "mm/s of \"speed_curve\", which scales lambda1 from the speed it was "
+                      "measured at: set print_speed inside the range, or calibrate a range that "
+                      "holds it ('flatmorph calibrate print --speed-ramp --print-speeds ...')",
+                      source, m.print_speed, c.min_print_speed, c.max_print_speed));
+    }
   }
   if (m.nozzle_temperature < m.min_nozzle_temperature ||
       m.nozzle_temperature > m.max_nozzle_temperature) {
@@ -214,7 +271,39 @@ std::string material_json(const Material& m) {
     t["nozzle_temperature"] = c.nozzle_temperature;
     j["thickness_curve"] = std::move(t);
   }
+  if (m.speed_curve) {
+    const SpeedCurve& c = *m.speed_curve;
+    nlohmann::ordered_json t;
+    t["description"] =
+        "lambda1(v) = sum of lambda1_coefficients[i] * v^i, v the print speed in mm/s, valid for "
+        "min_print_speed <= v <= max_print_speed; measured on samples of layer_height mm; a bead "
+        "printed at v shrinks to lambda1(v) / lambda1(print_speed) times the material's lambda1";
+    t["lambda1_coefficients"] = c.lambda1_coefficients;
+    t["min_print_speed"] = c.min_print_speed;
+    t["max_print_speed"] = c.max_print_speed;
+    t["layer_height"] = c.layer_height;
+    t["nozzle_temperature"] = c.nozzle_temperature;
+    j["speed_curve"] = std::move(t);
+  }
   return j.dump(2) + "\n";
+}
+
+double printed_lambda1(const Material& m, double layer_height_mm, double print_speed_mm_s) {
+  double lambda1 = m.lambda1;
+  if (m.thickness_curve) {
+    const ThicknessCurve& c = *m.thickness_curve;
+    lambda1 = lambda1_at_layer_height(
+        c, std::clamp(layer_height_mm, c.min_layer_height, c.max_layer_height));
+  }
+  // A speed of 0 is one nobody gave (a G-code without F): the speed the ratios were measured at.
+  if (m.speed_curve && print_speed_mm_s > 0) {
+    const SpeedCurve& c = *m.speed_curve;
+    auto at = [&c](double v) {
+      return lambda1_at_print_speed(c, std::clamp(v, c.min_print_speed, c.max_print_speed));
+    };
+    lambda1 *= at(print_speed_mm_s) / at(m.print_speed);
+  }
+  return lambda1;
 }
 
 void write_material(const std::filesystem::path& path, const Material& material) {

@@ -9,6 +9,7 @@
 #include <string_view>
 #include <vector>
 
+#include "material/speed_curve.h"
 #include "material/thickness_curve.h"
 
 namespace flatmorph {
@@ -48,7 +49,23 @@ struct Material {
   // Optional: lambda1 as a function of the layer height, with its calibrated range (key
   // "thickness_curve"; `flatmorph calibrate fit` on a --thickness-ramp print writes it).
   std::optional<ThicknessCurve> thickness_curve;
+  // Optional: lambda1 as a function of the print speed (key "speed_curve"; `flatmorph calibrate
+  // fit` on a --speed-ramp print writes it). print_speed must lie in its calibrated range: the
+  // ratios above were measured at print_speed, and printed_lambda1 scales them from there.
+  std::optional<SpeedCurve> speed_curve;
 };
+
+// lambda1 of a bead printed with `material` at layer height `layer_height_mm` and print speed
+// `print_speed_mm_s` (mm/s; a G-code F is mm/min): the thickness curve at h when the material has
+// one, else material.lambda1, times speed_curve(v) / speed_curve(material.print_speed) when it has
+// a speed curve. The model is multiplicative: the speed ramp is printed at one layer height, so it
+// gives only how much the speed changes lambda1 relative to the speed the other ratios were
+// measured at, and that factor is assumed to hold at every layer height. h and v are clamped to
+// the curves' calibrated ranges rather than refused: a first layer printed at 15 mm/s for
+// adhesion, outside a curve calibrated from 20 mm/s, must not make a printed design unreadable,
+// and the nearest calibrated value is the best estimate there is. A speed of 0 (not known: a
+// G-code without F) counts as material.print_speed.
+double printed_lambda1(const Material& material, double layer_height_mm, double print_speed_mm_s);
 
 // Names of the built-in materials, in a fixed order.
 std::vector<std::string> material_preset_names();

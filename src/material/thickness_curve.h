@@ -9,7 +9,13 @@
 #include <string>
 #include <vector>
 
+#include "material/monotone_curve.h"
+
 namespace flatmorph {
+
+// How messages of the shared curve code (monotone_curve.h) name the layer height.
+inline constexpr CurveParameter kThicknessCurveParameter = {
+    "layer height", "mm", "thickness curve", "calibrate print --thickness-ramp", "--layer-heights"};
 
 struct ThicknessCurve {
   // lambda1(h) = sum_i lambda1_coefficients[i] * h^i, h in mm (1 to 5 coefficients).

@@ -3,11 +3,15 @@
 #include <fmt/core.h>
 #include <gtest/gtest.h>
 
+#include <array>
 #include <filesystem>
 #include <fstream>
+#include <functional>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "material/material.h"
 #include "test_support.h"
 
 namespace flatmorph {
@@ -153,6 +157,152 @@ TEST(CliCalibrate, ThicknessRampAddsTheCurve) {
   EXPECT_EQ(m["thickness_curve"]["max_layer_height"].get<double>(), 0.28);
   EXPECT_EQ(m["thickness_curve"]["layers"].get<int>(), 6);
   EXPECT_NEAR(m["lambda1"].get<double>(), 0.45 + 1.2 * 0.08, 1e-4);  // the best: thinnest
+}
+
+// The rows of a sheet with the after-heating columns filled from the named columns of each row:
+// `after(row)` gives length_after, width_after, thickness_after.
+std::string fill_by_name(
+    const std::string& sheet,
+    const std::function<std::array<double, 3>(const std::map<std::string, double>&)>& after) {
+  std::istringstream in(sheet);
+  std::string out;
+  std::vector<std::string> names;
+  for (std::string line; std::getline(in, line);) {
+    std::vector<std::string> c;
+    std::stringstream ls(line);
+    for (std::string cell; std::getline(ls, cell, ',');) c.push_back(cell);
+    if (line.empty() || line[0] == '#' || names.empty()) {
+      if (!line.empty() && line[0] != '#') names = c;
+      out += line + "\n";
+      continue;
+    }
+    std::map<std::string, double> row;
+    for (size_t i = 0; i < c.size(); ++i) {
+      if (!c[i].empty()) row[names[i]] = std::stod(c[i]);
+    }
+    const std::array<double, 3> a = after(row);
+    for (size_t i = 0; i < names.size(); ++i) {
+      const std::string& name = names[i];
+      out += i ? "," : "";
+      if (name == "length_after" || name == "width_after" || name == "thickness_after") {
+        out += fmt::format("{:.6f}", a[name == "length_after" ? 0 : name == "width_after" ? 1 : 2]);
+      } else if (i < c.size()) {
+        out += c[i];
+      }
+    }
+    out += "\n";
+  }
+  return out;
+}
+
+// A speed ramp printed, measured (lambda1 = 0.8 - 0.0015 v: faster shrinks more) and fitted, alone
+// and beside an ordinary sheet; the material file's speed curve is read back by load_material.
+TEST(CliCalibrate, SpeedRampAddsTheSpeedCurve) {
+  const fs::path dir = testing::scratch_dir();
+  const auto r =
+      run_cli({"calibrate", "print", "--speed-ramp", "--printer", "prusa-mk4", "--material",
+               "pla-paper", "--repeats", "2", "-o", (dir / "speed.gcode").string()});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("6 speed-ramp sets"), std::string::npos) << r.out;
+  const std::string sheet = testing::read_file(dir / "speed.csv");
+  EXPECT_NE(sheet.find("# kind = speed-ramp\n"), std::string::npos);
+  EXPECT_NE(sheet.find("layers,print_speed,length_before"), std::string::npos) << sheet;
+  const auto check = run_cli({"check", (dir / "speed.gcode").string(), "--printer", "prusa-mk4",
+                              "--material", "pla-paper"});
+  EXPECT_EQ(check.exit_code, 0) << check.out << check.err;
+  // 150 mm/s, the fastest default speed, is printed as F9000 (mm/min).
+  EXPECT_NE(testing::read_file(dir / "speed.gcode").find(" F9000\n"), std::string::npos);
+
+  auto lambda1 = [](double v) { return 0.8 - 0.0015 * v; };
+  std::ofstream(dir / "speed-measured.csv") << fill_by_name(sheet, [&](const auto& row) {
+    return std::array<double, 3>{row.at("length_before") * lambda1(row.at("print_speed")),
+                                 row.at("width_before") * 1.06, row.at("thickness_before") * 1.4};
+  });
+  const auto fit = run_cli({"calibrate", "fit", (dir / "speed-measured.csv").string(), "-o",
+                            (dir / "fast-pla.json").string()});
+  ASSERT_EQ(fit.exit_code, 0) << fit.err;
+  EXPECT_NE(fit.out.find("speed curve: lambda1(v)"), std::string::npos) << fit.out;
+  const Material m = load_material((dir / "fast-pla.json").string());
+  ASSERT_TRUE(m.speed_curve.has_value());
+  EXPECT_EQ(m.speed_curve->min_print_speed, 20);
+  EXPECT_EQ(m.speed_curve->max_print_speed, 150);
+  EXPECT_EQ(m.speed_curve->layer_height, 0.08);
+  EXPECT_EQ(m.speed_curve->nozzle_temperature, 190);
+  for (double v : {20.0, 55.0, 150.0}) {
+    EXPECT_NEAR(lambda1_at_print_speed(*m.speed_curve, v), lambda1(v), 1e-6) << v;
+  }
+  // The set that shrinks most (150 mm/s) is written, with the speed it was measured at.
+  EXPECT_EQ(m.print_speed, 150);
+  EXPECT_NEAR(m.lambda1, lambda1(150), 1e-6);
+  EXPECT_NEAR(printed_lambda1(m, 0.08, 60), lambda1(60), 1e-6);
+  EXPECT_NE(testing::read_file(dir / "fast-pla.svg").find("print speed (mm/s)"), std::string::npos);
+
+  // Beside an ordinary sheet: that sheet's set is written (at pla-paper's 30 mm/s, inside the
+  // ramp), with the speed curve, and each sheet gets its plot.
+  ASSERT_EQ(run_cli({"calibrate", "print", "--printer", "prusa-mk4", "--material", "pla-paper",
+                     "--nozzle-temps", "190", "--layer-heights", "0.08", "--repeats", "2", "-o",
+                     (dir / "sets.gcode").string()})
+                .exit_code,
+            0);
+  std::ofstream(dir / "sets-measured.csv") << fill(testing::read_file(dir / "sets.csv"));
+  const auto both =
+      run_cli({"calibrate", "fit", (dir / "sets-measured.csv").string(),
+               (dir / "speed-measured.csv").string(), "-o", (dir / "both.json").string()});
+  ASSERT_EQ(both.exit_code, 0) << both.err;
+  const Material b = load_material((dir / "both.json").string());
+  ASSERT_TRUE(b.speed_curve.has_value());
+  EXPECT_EQ(b.print_speed, 30);
+  EXPECT_NEAR(b.lambda1, 0.58, 1e-3);  // fill(): set 1 shrinks to 0.56 + 0.02
+  EXPECT_NE(testing::read_file(dir / "both.svg").find("layer height (mm)"), std::string::npos);
+  EXPECT_NE(testing::read_file(dir / "both-speed.svg").find("print speed (mm/s)"),
+            std::string::npos);
+
+  // A ramp that leaves out the sets' 30 mm/s cannot scale their lambda1: refused, nothing written.
+  ASSERT_EQ(run_cli({"calibrate", "print", "--speed-ramp", "--print-speeds", "40,80,120",
+                     "--printer", "prusa-mk4", "--material", "pla-paper", "--repeats", "2", "-o",
+                     (dir / "narrow.gcode").string()})
+                .exit_code,
+            0);
+  std::ofstream(dir / "narrow-measured.csv")
+      << fill_by_name(testing::read_file(dir / "narrow.csv"), [&](const auto& row) {
+           return std::array<double, 3>{row.at("length_before") * lambda1(row.at("print_speed")),
+                                        row.at("width_before") * 1.06,
+                                        row.at("thickness_before") * 1.4};
+         });
+  const auto narrow =
+      run_cli({"calibrate", "fit", (dir / "sets-measured.csv").string(),
+               (dir / "narrow-measured.csv").string(), "-o", (dir / "narrow.json").string()});
+  EXPECT_EQ(narrow.exit_code, 2);
+  EXPECT_NE(narrow.err.find("print_speed 30 mm/s lies outside the calibrated range [40, 120]"),
+            std::string::npos)
+      << narrow.err;
+  EXPECT_FALSE(fs::exists(dir / "narrow.json"));
+}
+
+TEST(CliCalibrate, SpeedRampRefusals) {
+  const fs::path dir = testing::scratch_dir();
+  auto refused = [&](std::vector<std::string> args, const std::string& says) {
+    args.insert(args.begin(), {"calibrate", "print", "--material", "pla-paper", "-o",
+                               (dir / "x.gcode").string()});
+    const auto r = run_cli(args);
+    EXPECT_EQ(r.exit_code, 2) << r.out;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_NE(r.err.find(says), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(dir / "x.gcode"));
+    EXPECT_FALSE(fs::exists(dir / "x.csv"));
+  };
+  refused({"--printer", "prusa-mk4", "--speed-ramp", "--thickness-ramp"},
+          "--thickness-ramp and --speed-ramp");
+  refused({"--printer", "prusa-mk4", "--speed-ramp", "--print-speeds", "30,250"},
+          "250 mm/s is above 200 mm/s, the travel speed of printer");
+  refused({"--printer", "prusa-mk4", "--print-speeds", "30,60"}, "add --speed-ramp");
+  // The default speeds stop at a slower printer's travel speed (120 mm/s) instead.
+  const auto r =
+      run_cli({"calibrate", "print", "--speed-ramp", "--printer", "generic-marlin", "--material",
+               "pla-paper", "--repeats", "1", "-o", (dir / "slow.gcode").string()});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("5 speed-ramp sets"), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("150 mm/s"), std::string::npos) << r.out;
 }
 
 TEST(CliCalibrate, BadMeasurementsGiveOneLineNamingLineAndColumn) {

@@ -19,23 +19,22 @@ constexpr double kWidth = 0.4;
 // Parallel beads along `angle` (rad) at the spacing of their width, covering the disk of radius
 // `radius` around the origin (and more), in layer `layer` at nozzle height z, bed coordinates.
 void add_hatch(GcodeDeposition& d, double angle, double radius, int layer, double z, double height,
-               int tool = 0, double x_max = INFINITY) {
+               int tool = 0, double x_max = INFINITY, double feed_rate = 1800,
+               double x_min = -INFINITY) {
   const Eigen::Vector2d along(std::cos(angle), std::sin(angle));
   const Eigen::Vector2d across(-along.y(), along.x());
   const int lines = static_cast<int>(std::ceil(radius / kWidth)) + 1;
   for (int i = -lines; i <= lines; ++i) {
     Eigen::Vector2d a = i * kWidth * across - radius * along;
     Eigen::Vector2d b = i * kWidth * across + radius * along;
-    if (std::isfinite(x_max)) {
-      // Clip to x <= x_max (hatches along y only in the tests that use it).
-      if (a.x() > x_max) continue;
-    }
+    // Clip to x_min <= x <= x_max (hatches along y only in the tests that use it).
+    if (a.x() > x_max || a.x() < x_min) continue;
     DepositedBead bead;
     bead.start = Eigen::Vector3d(a.x(), a.y(), z);
     bead.end = Eigen::Vector3d(b.x(), b.y(), z);
     bead.width = kWidth;
     bead.height = height;
-    bead.feed_rate = 1800;
+    bead.feed_rate = feed_rate;
     bead.tool = tool;
     bead.layer = layer;
     d.beads.push_back(bead);
@@ -142,6 +141,44 @@ TEST(DepositedPlate, APrintedShrinkMorphStackReadsBackAsItsDesign) {
       EXPECT_EQ(got.lambda2(f), want.lambda2(f));
       EXPECT_EQ(got.lambda3(f), want.lambda3(f));
     }
+  }
+}
+
+// One layer printed at 20 mm/s on the left half and 60 mm/s on the right (feed rates 1200 and
+// 3600 mm/min): with a speed curve the halves get the material's lambda1 scaled by the curve's
+// ratio to its value at print_speed; without one they are the same.
+TEST(DepositedPlate, ASpeedCurveGivesEachSpeedItsLambda1) {
+  const testing::TestPlate plate = testing::rectangle_plate(20, 10, 20, 10);
+  GcodeDeposition d;
+  const double h = 0.2;
+  add_hatch(d, std::numbers::pi / 2, 15, 0, h, h, 0, -0.2, 1200);
+  add_hatch(d, std::numbers::pi / 2, 15, 0, h, h, 0, INFINITY, 3600, -0.2 + kWidth / 2);
+  Material plain = load_material("pla-paper");  // lambda1 0.58 at print_speed 30 mm/s
+  Material curved = plain;
+  curved.speed_curve = SpeedCurve{{0.7, -0.002}, 20, 100, 0.08, 190};  // 0.64 at 30 mm/s
+  const double slow = 0.58 * (0.7 - 0.002 * 20) / 0.64, fast = 0.58 * (0.7 - 0.002 * 60) / 0.64;
+  for (const Material& m : {plain, curved}) {
+    const DepositedPlate p = deposited_plate(d, plate.V, plate.F, {m}, "test");
+    ASSERT_EQ(p.design.stack.num_layers(), 1);
+    const Layer& layer = p.design.stack.layers[0];
+    int left = 0, right = 0;
+    for (Eigen::Index f = 0; f < p.design.F.rows(); ++f) {
+      double x_min = INFINITY, x_max = -INFINITY;
+      for (int c = 0; c < 3; ++c) {
+        x_min = std::min(x_min, p.design.plate(p.design.F(f, c), 0));
+        x_max = std::max(x_max, p.design.plate(p.design.F(f, c), 0));
+      }
+      // One layer: no bilayer offset, lambda1 is the bead's.
+      if (x_max <= -1) {
+        EXPECT_NEAR(layer.lambda1(f), m.speed_curve ? slow : 0.58, 1e-12) << f;
+        ++left;
+      } else if (x_min >= 1) {
+        EXPECT_NEAR(layer.lambda1(f), m.speed_curve ? fast : 0.58, 1e-12) << f;
+        ++right;
+      }
+    }
+    EXPECT_GT(left, 20);
+    EXPECT_GT(right, 20);
   }
 }
 

@@ -114,6 +114,102 @@ TEST(Material, FileErrorsNameTheProblem) {
             std::string::npos);
 }
 
+// lambda1(v) = 0.7 - 0.002 v on [20, 100] mm/s: 0.66 at 20, 0.64 at pla-paper's 30, 0.5 at 100.
+SpeedCurve linear_speed_curve() {
+  SpeedCurve c;
+  c.lambda1_coefficients = {0.7, -0.002};
+  c.min_print_speed = 20;
+  c.max_print_speed = 100;
+  c.layer_height = 0.08;
+  c.nozzle_temperature = 200;
+  return c;
+}
+
+TEST(Material, SpeedCurveRoundTripsThroughTheFile) {
+  Material m = load_material("pla-paper");
+  m.name = "fast-pla";
+  m.speed_curve = linear_speed_curve();
+  m.speed_curve->lambda1_coefficients = {0.71, -2.1e-3, 1.0 / 3 * 1e-6};  // not short decimals
+  const fs::path path = testing::scratch_dir() / "fast-pla.json";
+  flatmorph::write_material(path, m);
+  const Material back = load_material(path.string());
+  ASSERT_TRUE(back.speed_curve.has_value());
+  EXPECT_EQ(back.speed_curve->lambda1_coefficients, m.speed_curve->lambda1_coefficients);
+  EXPECT_EQ(back.speed_curve->min_print_speed, 20);
+  EXPECT_EQ(back.speed_curve->max_print_speed, 100);
+  EXPECT_EQ(back.speed_curve->layer_height, 0.08);
+  EXPECT_EQ(back.speed_curve->nozzle_temperature, 200);
+  EXPECT_FALSE(back.thickness_curve.has_value());
+  EXPECT_EQ(material_json(back), material_json(m));
+  // The documented key order: the curves last, the speed curve after the thickness curve.
+  const std::string text = material_json(m);
+  EXPECT_LT(text.find("\"first_layer_fan_speed\""), text.find("\"speed_curve\""));
+  m.thickness_curve = ThicknessCurve{{0.5, 1.0}, 0.08, 0.28, 6, 200};
+  const std::string both = material_json(m);
+  EXPECT_LT(both.find("\"thickness_curve\""), both.find("\"speed_curve\""));
+  // Without one the file has no such key, and the presets have none.
+  EXPECT_EQ(material_json(load_material("pla-paper")).find("speed_curve"), std::string::npos);
+}
+
+TEST(Material, SpeedCurveErrorsNameTheKeyAndTheFile) {
+  const std::string good = R"("lambda1_coefficients": [0.7, -0.002], "min_print_speed": 20)";
+  for (const auto& [curve, says] : std::vector<std::pair<std::string, std::string>>{
+           {R"({"lambda1_coefficients": [0.5, 0.004, -0.00004], "min_print_speed": 20, )"
+            R"("max_print_speed": 100})",
+            "not strictly monotone"},  // turns at 50 mm/s
+           {R"({"lambda1_coefficients": [0.7, -0.002], "min_print_speed": 100, )"
+            R"("max_print_speed": 20})",
+            "not an interval of positive print speeds"},
+           {R"({"lambda1_coefficients": [0.7, -0.00003], "min_print_speed": 1500, )"
+            R"("max_print_speed": 9000})",
+            "mm/min"},
+           {"{" + good + R"(, "max_print_speed": "100"})", "\"max_print_speed\" must be a number"},
+           {"{" + good + "}", "lacks \"max_print_speed\""},
+           {R"({"lambda1_coefficients": 0.7, "min_print_speed": 20, "max_print_speed": 100})",
+            "needs \"lambda1_coefficients\""},
+           {R"({"lambda1_coefficients": [0.7, "a"], "min_print_speed": 20, )"
+            R"("max_print_speed": 100})",
+            "holds \"a\", not a number"},
+           {"{" + good + R"(, "max_print_speed": 100, "speed": 3})", "unknown key \"speed\""},
+           {"[0.7, -0.002]", "must be an object"},
+       }) {
+    const std::string message = material_error(R"({"lambda1": 0.6, "speed_curve": )" + curve + "}",
+                                               ErrorCategory::kProfile);
+    EXPECT_NE(message.find("\"speed_curve\""), std::string::npos) << message;
+    EXPECT_NE(message.find(says), std::string::npos) << message;
+  }
+  // The ratios are scaled from print_speed, which must lie in the calibrated range.
+  const std::string message = material_error(
+      "{\"print_speed\": 120, \"speed_curve\": {" + good + ", \"max_print_speed\": 100}}",
+      ErrorCategory::kProfile);
+  EXPECT_NE(message.find("print_speed 120 mm/s lies outside the calibrated range [20, 100] mm/s"),
+            std::string::npos)
+      << message;
+}
+
+TEST(Material, PrintedLambda1FollowsTheCurvesAndClampsToTheirRanges) {
+  Material m = load_material("pla-paper");  // lambda1 0.58 measured at 30 mm/s
+  // No curve: the speed and the height change nothing.
+  for (double h : {0.05, 0.08, 0.3}) {
+    for (double v : {10.0, 30.0, 200.0}) EXPECT_EQ(printed_lambda1(m, h, v), 0.58);
+  }
+  m.speed_curve = linear_speed_curve();
+  EXPECT_NEAR(printed_lambda1(m, 0.08, 30), 0.58, 1e-15);
+  EXPECT_NEAR(printed_lambda1(m, 0.08, 60), 0.58 * 0.58 / 0.64, 1e-15);
+  EXPECT_NEAR(printed_lambda1(m, 0.08, 100), 0.58 * 0.5 / 0.64, 1e-15);
+  // A first layer at 15 mm/s reads as 20, the slowest calibrated; 300 mm/s as 100.
+  EXPECT_EQ(printed_lambda1(m, 0.08, 15), printed_lambda1(m, 0.08, 20));
+  EXPECT_NEAR(printed_lambda1(m, 0.08, 15), 0.58 * 0.66 / 0.64, 1e-15);
+  EXPECT_EQ(printed_lambda1(m, 0.08, 300), printed_lambda1(m, 0.08, 100));
+  // No known speed (a G-code without F): the speed the ratios were measured at.
+  EXPECT_NEAR(printed_lambda1(m, 0.08, 0), 0.58, 1e-15);
+  // With a thickness curve (lambda1(h) = 0.5 + h on [0.08, 0.28]) the speed factor multiplies it.
+  m.thickness_curve = ThicknessCurve{{0.5, 1.0}, 0.08, 0.28, 6, 200};
+  EXPECT_NEAR(printed_lambda1(m, 0.2, 30), 0.7, 1e-15);
+  EXPECT_NEAR(printed_lambda1(m, 0.2, 60), 0.7 * 0.58 / 0.64, 1e-15);
+  EXPECT_NEAR(printed_lambda1(m, 0.04, 60), 0.58 * 0.58 / 0.64, 1e-15);  // h clamped to 0.08
+}
+
 TEST(Material, UnknownNameListsThePresets) {
   try {
     load_material("petg");
