@@ -19,6 +19,13 @@ void print_plan_summary(const PrintPlan& plan, const PrinterProfile& printer) {
   const LayerPaths& paths = plan.paths;
   fmt::print("refined plate: {} faces, mean edge {:.3f} mm\n", paths.refined_faces,
              paths.refined_mean_edge_mm);
+  if (!paths.stripe_turn_deg.empty()) {
+    fmt::print(
+        "stripes' mean turn from the layers' directions, per plate face: {:.2f} deg as traced, "
+        "{:.2f} deg after {} correction(s) of the fields\n",
+        paths.stripe_turn_deg.front(), paths.stripe_turn_deg[paths.field_corrections],
+        paths.field_corrections);
+  }
   fmt::print("layer   z (mm)  paths  printed (mm)  travel (mm)  greedy travel (mm)  forks\n");
   double travel = 0, greedy = 0;
   for (const LayerPathReport& r : paths.layers) {

@@ -51,6 +51,8 @@ nlohmann::ordered_json plan_summary_json(const PrintPlan& plan, const PrinterPro
   nlohmann::ordered_json j;
   j["printer"] = printer.name;
   j["refined_faces"] = plan.paths.refined_faces;
+  j["stripe_turn_deg"] = plan.paths.stripe_turn_deg;
+  j["field_corrections"] = plan.paths.field_corrections;
   nlohmann::ordered_json layers = nlohmann::ordered_json::array();
   double travel = 0, greedy = 0;
   for (const LayerPathReport& r : plan.paths.layers) {

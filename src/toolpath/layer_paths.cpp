@@ -3,10 +3,13 @@
 #include <fmt/core.h>
 
 #include <cmath>
+#include <complex>
+#include <numbers>
 #include <string>
 
 #include "common/error.h"
 #include "common/stopwatch.h"
+#include "mesh/operators.h"
 #include "mesh/topology.h"
 #include "plate/layer_stack.h"
 #include "toolpath/isolines.h"
@@ -17,6 +20,8 @@
 
 namespace flatmorph {
 namespace {
+
+constexpr double kPi = std::numbers::pi;
 
 // The stripe patterns trace one direction field per layer over the whole plate at one bead
 // height with one tool: a layer that varies, or leaves faces out, needs another tracing.
@@ -53,6 +58,7 @@ void check_options(const Eigen::MatrixXd& plate, const Eigen::MatrixXi& F, const
   if (!(o.min_end_gap >= 0)) fail("the minimum gap at path ends must not be negative");
   if (!(o.simplify_tolerance_mm >= 0)) fail("the simplification tolerance must not be negative");
   if (o.perimeters < 0) fail("the number of perimeter loops must not be negative");
+  if (o.field_corrections < 0) fail("the number of field corrections must not be negative");
 }
 
 // Per fine vertex direction from the coarse per-vertex line field, interpolated linearly.
@@ -62,6 +68,60 @@ Eigen::VectorXd refined_theta(const RefinedPlate& refined, const Eigen::VectorXc
   u.real() = re;
   u.imag() = im;
   return line_field_angle(u);
+}
+
+// Per plate face, how far the stripes of one layer turned from the layer's direction theta (rad):
+// the area-weighted mean direction of the stripes over the face's refined faces (doubled angles)
+// minus theta. 0 where no refined face has a direction (singularities, forks).
+// Per vertex the area-weighted mean of the values of the faces around it.
+Eigen::VectorXd face_to_vertex_mean(const Eigen::MatrixXi& F, const Eigen::VectorXd& areas,
+                                    const Eigen::VectorXd& values, Eigen::Index num_vertices) {
+  Eigen::VectorXd sum = Eigen::VectorXd::Zero(num_vertices), weight = sum;
+  for (Eigen::Index f = 0; f < F.rows(); ++f) {
+    for (int j = 0; j < 3; ++j) {
+      sum(F(f, j)) += areas(f) * values(f);
+      weight(F(f, j)) += areas(f);
+    }
+  }
+  return sum.cwiseQuotient(weight.cwiseMax(1e-300));
+}
+
+Eigen::VectorXd stripe_turn(const Eigen::MatrixXi& F, const RefinedPlate& refined,
+                            const Eigen::VectorXd& refined_areas, const StripePattern& pattern,
+                            const Eigen::VectorXd& theta) {
+  const Eigen::VectorXd direction = stripe_direction(refined.V, refined.F, pattern);
+  Eigen::VectorXcd sum = Eigen::VectorXcd::Zero(F.rows());
+  for (Eigen::Index f = 0; f < refined.F.rows(); ++f) {
+    if (std::isnan(direction(f))) continue;
+    sum(refined.face_parent(f)) += refined_areas(f) * std::polar(1.0, 2 * direction(f));
+  }
+  Eigen::VectorXd turn = Eigen::VectorXd::Zero(F.rows());
+  for (Eigen::Index f = 0; f < F.rows(); ++f) {
+    if (std::abs(sum(f)) > 0) turn(f) = std::remainder(std::arg(sum(f)) / 2 - theta(f), kPi);
+  }
+  return turn;
+}
+
+// The layers' stripes and how far they turned from the stack's directions, per layer and plate
+// face (rad), with the area-weighted mean |turn| over every layer and face.
+struct TracedStripes {
+  std::vector<StripePattern> patterns;
+  std::vector<Eigen::VectorXd> turn;
+  double mean_turn = 0;
+};
+
+TracedStripes measure_stripes(const Eigen::MatrixXi& F, const Eigen::VectorXd& areas,
+                              const RefinedPlate& refined, const Eigen::VectorXd& refined_areas,
+                              const LayerStack& stack, std::vector<StripePattern> patterns) {
+  TracedStripes out;
+  out.patterns = std::move(patterns);
+  for (size_t k = 0; k < out.patterns.size(); ++k) {
+    out.turn.push_back(
+        stripe_turn(F, refined, refined_areas, out.patterns[k], stack.layers[k].theta));
+    out.mean_turn += areas.dot(out.turn.back().cwiseAbs());
+  }
+  out.mean_turn /= areas.sum() * static_cast<double>(out.patterns.size());
+  return out;
 }
 
 }  // namespace
@@ -99,8 +159,34 @@ LayerPaths stack_layer_paths(const Eigen::MatrixXd& plate, const Eigen::MatrixXi
   start = Clock::now();
   StripeOptions stripe_options = options.stripes;
   stripe_options.spacing = s;
-  const std::vector<StripePattern> patterns =
-      stripe_patterns(refined.V, refined.F, topology, thetas, stripe_options);
+  const Eigen::VectorXd areas = face_areas(plate.leftCols<2>(), F).cwiseAbs();
+  const Eigen::VectorXd refined_areas = face_areas(refined.V, refined.F).cwiseAbs();
+  TracedStripes traced =
+      measure_stripes(F, areas, refined, refined_areas, stack,
+                      stripe_patterns(refined.V, refined.F, topology, thetas, stripe_options));
+  out.stripe_turn_deg.push_back(traced.mean_turn * 180 / kPi);
+  for (int pass = 1; pass <= options.field_corrections; ++pass) {
+    report_progress(options.progress,
+                    {"trajectories", 0, num_layers, NAN,
+                     fmt::format("re-aiming the fields by the stripes' turn ({} of {})", pass,
+                                 options.field_corrections)});
+    std::vector<Eigen::VectorXd> aimed = thetas;
+    for (int k = 0; k < num_layers; ++k) {
+      aimed[k] -= refined.S * face_to_vertex_mean(F, areas, traced.turn[k], plate.rows());
+    }
+    TracedStripes next =
+        measure_stripes(F, areas, refined, refined_areas, stack,
+                        restripe_patterns(refined.V, refined.F, topology, aimed, thetas,
+                                          traced.patterns, stripe_options));
+    out.stripe_turn_deg.push_back(next.mean_turn * 180 / kPi);
+    // Where the stripes cannot follow the field (lines that diverge need forks, e.g. a radial
+    // field), aiming them moves the forks and the turn grows: keep the better pattern.
+    if (next.mean_turn >= traced.mean_turn) break;
+    traced = std::move(next);
+    thetas = std::move(aimed);
+    ++out.field_corrections;
+  }
+  const std::vector<StripePattern>& patterns = traced.patterns;
   out.timings.eigenvector = seconds_since(start);
 
   // Perimeter loops are the same in every layer.

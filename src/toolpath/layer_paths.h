@@ -33,6 +33,9 @@ struct LayerPathOptions {
   // loop along the boundary shrinks along it and works against the designed directions). The
   // other paths then stop min_end_gap spacings short of the innermost loop.
   int perimeters = 0;
+  // Passes that re-aim each layer's field by how far its stripes turned from it
+  // (docs/toolpaths.md).
+  int field_corrections = 2;
   StripeOptions stripes;  // its spacing is overwritten by `spacing`
   OrderOptions order;
   ProgressCallback progress;  // stage "trajectories": the stripe patterns, then layer by layer
@@ -68,6 +71,11 @@ struct LayerPaths {
   Toolpath toolpath;  // one ToolpathLayer per printed layer, bottom first
   std::vector<LayerPathReport> layers;
   LayerPathTimings timings;
+  // Area-weighted mean over layers and plate faces of how far the stripes turned from theta^k
+  // (degrees): before any correction, then after each correction tried (the last one tried may
+  // have been worse, and not kept).
+  std::vector<double> stripe_turn_deg;
+  int field_corrections = 0;  // corrections kept
   int refined_faces = 0;
   double refined_mean_edge_mm = 0;
   double refined_max_edge_mm = 0;

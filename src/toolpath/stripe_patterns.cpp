@@ -5,8 +5,12 @@
 #include <array>
 #include <cmath>
 #include <complex>
+#include <memory>
 #include <numbers>
 #include <stdexcept>
+
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
 
 #include "mesh/operators.h"
 #include "numerics/sparse_cholesky.h"
@@ -308,20 +312,129 @@ int count_phase_levels(double a, double b) {
   return n > 0 ? static_cast<int>(n) : 0;
 }
 
+Eigen::VectorXd stripe_direction(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
+                                 const StripePattern& pattern) {
+  Eigen::VectorXd direction = Eigen::VectorXd::Constant(F.rows(), NAN);
+  for (Eigen::Index f = 0; f < F.rows(); ++f) {
+    if (!pattern.usable[f] || pattern.stripe_index(f) != 0) continue;
+    const Eigen::Vector2d e1 = (V.row(F(f, 1)) - V.row(F(f, 0))).head<2>().transpose();
+    const Eigen::Vector2d e2 = (V.row(F(f, 2)) - V.row(F(f, 0))).head<2>().transpose();
+    const double d1 = pattern.corner_phase(f, 1) - pattern.corner_phase(f, 0);
+    const double d2 = pattern.corner_phase(f, 2) - pattern.corner_phase(f, 0);
+    // The phase gradient g solves e1.g = d1, e2.g = d2; the isolines run along its normal
+    // (-g_y, g_x), which by Cramer's rule is (d1 e2 - d2 e1) / det(e1, e2).
+    const double det = e1.x() * e2.y() - e1.y() * e2.x();
+    const Eigen::Vector2d along = (d1 * e2 - d2 * e1) / det;
+    direction(f) = std::remainder(std::atan2(along.y(), along.x()), std::numbers::pi);
+  }
+  return direction;
+}
+
+namespace {
+
+// What the solves of every field on one plate share.
+struct StripeSetup {
+  double nu = 0;                  // 2 pi / spacing, 1/mm
+  Eigen::MatrixXd half_cot;       // per face corner
+  Eigen::VectorXd mass;           // 2 #V: the lumped mass, twice per vertex
+  ConnectionLaplacian laplacian;  // the sparsity pattern, values of the last field set
+};
+
+StripeSetup stripe_setup(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
+                         const EdgeTopology& topology, const StripeOptions& options) {
+  StripeSetup out;
+  const int nv = static_cast<int>(V.rows());
+  out.nu = kTwoPi / options.spacing;
+  out.half_cot = half_cotangents(V, F);
+  const Eigen::VectorXd vertex_mass = lumped_mass(V.leftCols<2>(), F);
+  out.mass.resize(2 * nv);
+  for (int v = 0; v < nv; ++v) out.mass.segment<2>(2 * v).setConstant(vertex_mass(v));
+  out.laplacian = connection_laplacian_pattern(topology, 1e-6 * out.nu * out.nu * out.mass);
+  return out;
+}
+
+// Warm start: x, a pattern of the field whose phase directions are previous_X, carried to the
+// field d: each value in d's sign of X (a vertex whose direction changed sign carries the
+// conjugate), advanced by the change of the 1-form integrated along d's spanning tree, so that its
+// stripes turn with the field while keeping their offsets and forks.
+void advance_pattern(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
+                     const EdgeTopology& topology, const FieldData& d,
+                     const Eigen::MatrixXd& previous_X, double nu, Eigen::VectorXd& x) {
+  const int nv = static_cast<int>(V.rows());
+  const SpanningTree tree = spanning_tree(V, F, topology, d.doubled_index);
+  Eigen::MatrixXd previous_aligned = previous_X;
+  for (int v = 0; v < nv; ++v) {
+    if (d.X.row(v).dot(previous_X.row(v)) < 0) {
+      x(2 * v + 1) = -x(2 * v + 1);
+      previous_aligned.row(v) *= -1;
+    }
+  }
+  Eigen::VectorXd change(topology.num_edges());
+  for (int e = 0; e < topology.num_edges(); ++e) {
+    const int i = topology.edges(e, 0), j = topology.edges(e, 1);
+    const Eigen::Vector2d edge = (V.row(j) - V.row(i)).head<2>();
+    const Eigen::Vector2d turn =
+        (d.X.row(i) - previous_aligned.row(i)) + d.sign(e) * (d.X.row(j) - previous_aligned.row(j));
+    change(e) = 0.5 * nu * turn.dot(edge);
+  }
+  const Eigen::VectorXd phi = integrate_one_form(tree, topology, d.sign, change);
+  for (int v = 0; v < nv; ++v) {
+    const std::complex<double> value =
+        std::complex<double>(x(2 * v), x(2 * v + 1)) * std::polar(1.0, phi(v));
+    x.segment<2>(2 * v) << value.real(), value.imag();
+  }
+}
+
+// The pattern of field d by inverse power iteration from x (which it leaves at the result), with
+// `laplacian` set to d's values and `solver` factorizing it (analysed first when `analysed` is
+// false: minimum degree alone, which on these planar meshes orders several times faster than
+// trying nested dissection as well, for a similar fill).
+StripePattern solve_pattern(const Eigen::MatrixXi& F, const EdgeTopology& topology,
+                            const FieldData& d, const StripeOptions& options, double nu,
+                            const Eigen::VectorXd& mass, ConnectionLaplacian& laplacian,
+                            SparseCholesky& solver, bool& analysed, Eigen::VectorXd& x) {
+  set_connection_laplacian(d, laplacian);
+  const Eigen::SparseMatrix<double>& A = laplacian.A;
+  if (!analysed) {
+    solver.cholmod().nmethods = 1;
+    solver.cholmod().method[0].ordering = CHOLMOD_AMD;
+    analyze_pattern(solver, A);
+    analysed = true;
+  }
+  factorize(solver, A);
+  if (solver.info() != Eigen::Success) {
+    throw std::runtime_error("stripe_patterns: factorization of the connection Laplacian failed");
+  }
+  StripePattern p;
+  x /= std::sqrt(x.dot(mass.cwiseProduct(x)));
+  for (p.iterations = 1; p.iterations <= options.max_iterations; ++p.iterations) {
+    const Eigen::VectorXd y = solver.solve(mass.cwiseProduct(x));
+    x = y / std::sqrt(y.dot(mass.cwiseProduct(y)));
+    const Eigen::VectorXd Ex = A * x - laplacian.shift.cwiseProduct(x);
+    p.eigenvalue = x.dot(Ex);
+    const Eigen::VectorXd r = Ex - p.eigenvalue * mass.cwiseProduct(x);
+    p.residual = std::sqrt(r.dot(r.cwiseQuotient(mass))) / (nu * nu);
+    if (p.residual < options.tolerance) break;
+  }
+  p.iterations = std::min(p.iterations, options.max_iterations);
+  const int nv = static_cast<int>(x.size() / 2);
+  p.psi.resize(nv);
+  for (int v = 0; v < nv; ++v) p.psi(v) = {x(2 * v), x(2 * v + 1)};
+  stripe_phases(F, topology, d, p);
+  return p;
+}
+
+}  // namespace
+
 std::vector<StripePattern> stripe_patterns(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
                                            const EdgeTopology& topology,
                                            const std::vector<Eigen::VectorXd>& theta_vertex,
                                            const StripeOptions& options) {
   const int nv = static_cast<int>(V.rows());
-  const double nu = kTwoPi / options.spacing;
-  const Eigen::MatrixXd half_cot = half_cotangents(V, F);
-  const Eigen::VectorXd vertex_mass = lumped_mass(V.leftCols<2>(), F);
-  Eigen::VectorXd mass(2 * nv);
-  for (int v = 0; v < nv; ++v) mass.segment<2>(2 * v).setConstant(vertex_mass(v));
-  ConnectionLaplacian laplacian = connection_laplacian_pattern(topology, 1e-6 * nu * nu * mass);
-
+  StripeSetup setup = stripe_setup(V, F, topology, options);
   std::vector<StripePattern> patterns;
   SparseCholesky solver;
+  bool analysed = false;
   Eigen::VectorXd x;
   Eigen::MatrixXd previous_X;
   for (size_t layer = 0; layer < theta_vertex.size(); ++layer) {
@@ -330,70 +443,71 @@ std::vector<StripePattern> stripe_patterns(const Eigen::MatrixXd& V, const Eigen
       patterns.push_back(patterns.back());
       continue;
     }
-    const FieldData d = field_data(V, F, topology, half_cot, theta_vertex[layer], nu);
-    const SpanningTree tree = spanning_tree(V, F, topology, d.doubled_index);
+    const FieldData d = field_data(V, F, topology, setup.half_cot, theta_vertex[layer], setup.nu);
     if (layer == 0) {
       // Start from the target 1-form integrated along the tree: stripes already aligned with the
       // field everywhere, mismatched only across the tree's cuts, which the iteration heals.
+      const SpanningTree tree = spanning_tree(V, F, topology, d.doubled_index);
       const Eigen::VectorXd phi = integrate_one_form(tree, topology, d.sign, d.omega);
       x.resize(2 * nv);
       for (int v = 0; v < nv; ++v) x.segment<2>(2 * v) << std::cos(phi(v)), std::sin(phi(v));
     } else {
-      // Warm start: the previous pattern, each value in this layer's sign of X (a vertex whose
-      // direction changed sign carries the conjugate), advanced by the integrated change of the
-      // 1-form, so that its stripes turn with the field while keeping their offsets and forks.
-      Eigen::MatrixXd previous_aligned = previous_X;
-      for (int v = 0; v < nv; ++v) {
-        if (d.X.row(v).dot(previous_X.row(v)) < 0) {
-          x(2 * v + 1) = -x(2 * v + 1);
-          previous_aligned.row(v) *= -1;
-        }
-      }
-      Eigen::VectorXd change(topology.num_edges());
-      for (int e = 0; e < topology.num_edges(); ++e) {
-        const int i = topology.edges(e, 0), j = topology.edges(e, 1);
-        const Eigen::Vector2d edge = (V.row(j) - V.row(i)).head<2>();
-        const Eigen::Vector2d turn = (d.X.row(i) - previous_aligned.row(i)) +
-                                     d.sign(e) * (d.X.row(j) - previous_aligned.row(j));
-        change(e) = 0.5 * nu * turn.dot(edge);
-      }
-      const Eigen::VectorXd phi = integrate_one_form(tree, topology, d.sign, change);
-      for (int v = 0; v < nv; ++v) {
-        const std::complex<double> value =
-            std::complex<double>(x(2 * v), x(2 * v + 1)) * std::polar(1.0, phi(v));
-        x.segment<2>(2 * v) << value.real(), value.imag();
-      }
+      advance_pattern(V, F, topology, d, previous_X, setup.nu, x);
     }
-    set_connection_laplacian(d, laplacian);
-    const Eigen::SparseMatrix<double>& A = laplacian.A;
-    if (patterns.empty()) {
-      // Minimum degree alone: on these planar meshes it orders several times faster than trying
-      // nested dissection as well, for a similar fill.
-      solver.cholmod().nmethods = 1;
-      solver.cholmod().method[0].ordering = CHOLMOD_AMD;
-      analyze_pattern(solver, A);
-    }
-    factorize(solver, A);
-    if (solver.info() != Eigen::Success) {
-      throw std::runtime_error("stripe_patterns: factorization of the connection Laplacian failed");
-    }
-    StripePattern p;
-    x /= std::sqrt(x.dot(mass.cwiseProduct(x)));
-    for (p.iterations = 1; p.iterations <= options.max_iterations; ++p.iterations) {
-      const Eigen::VectorXd y = solver.solve(mass.cwiseProduct(x));
-      x = y / std::sqrt(y.dot(mass.cwiseProduct(y)));
-      const Eigen::VectorXd Ex = A * x - laplacian.shift.cwiseProduct(x);
-      p.eigenvalue = x.dot(Ex);
-      const Eigen::VectorXd r = Ex - p.eigenvalue * mass.cwiseProduct(x);
-      p.residual = std::sqrt(r.dot(r.cwiseQuotient(mass))) / (nu * nu);
-      if (p.residual < options.tolerance) break;
-    }
-    p.iterations = std::min(p.iterations, options.max_iterations);
-    p.psi.resize(nv);
-    for (int v = 0; v < nv; ++v) p.psi(v) = {x(2 * v), x(2 * v + 1)};
-    stripe_phases(F, topology, d, p);
-    patterns.push_back(std::move(p));
+    patterns.push_back(solve_pattern(F, topology, d, options, setup.nu, setup.mass, setup.laplacian,
+                                     solver, analysed, x));
     previous_X = d.X;
+  }
+  return patterns;
+}
+
+std::vector<StripePattern> restripe_patterns(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
+                                             const EdgeTopology& topology,
+                                             const std::vector<Eigen::VectorXd>& theta_vertex,
+                                             const std::vector<Eigen::VectorXd>& previous_theta,
+                                             const std::vector<StripePattern>& previous,
+                                             const StripeOptions& options) {
+  const size_t n = theta_vertex.size();
+  if (previous_theta.size() != n || previous.size() != n) {
+    throw std::invalid_argument("restripe_patterns: one previous field and pattern per field");
+  }
+  const int nv = static_cast<int>(V.rows());
+  const StripeSetup setup = stripe_setup(V, F, topology, options);
+  // A layer whose field and previous field equal the layer below's has its pattern.
+  std::vector<size_t> solved;
+  for (size_t layer = 0; layer < n; ++layer) {
+    if (layer == 0 || theta_vertex[layer] != theta_vertex[layer - 1] ||
+        previous_theta[layer] != previous_theta[layer - 1]) {
+      solved.push_back(layer);
+    }
+  }
+  struct Worker {
+    ConnectionLaplacian laplacian;
+    SparseCholesky solver;
+    bool analysed = false;
+  };
+  tbb::enumerable_thread_specific<std::unique_ptr<Worker>> workers;
+  std::vector<StripePattern> patterns(n);
+  tbb::parallel_for(size_t{0}, solved.size(), [&](size_t i) {
+    std::unique_ptr<Worker>& worker = workers.local();
+    if (!worker) {
+      worker = std::make_unique<Worker>();
+      worker->laplacian = setup.laplacian;
+    }
+    const size_t layer = solved[i];
+    const FieldData d = field_data(V, F, topology, setup.half_cot, theta_vertex[layer], setup.nu);
+    Eigen::VectorXd x(2 * nv);
+    for (int v = 0; v < nv; ++v) {
+      x.segment<2>(2 * v) << previous[layer].psi(v).real(), previous[layer].psi(v).imag();
+    }
+    advance_pattern(V, F, topology, d, phase_directions(previous_theta[layer]), setup.nu, x);
+    patterns[layer] = solve_pattern(F, topology, d, options, setup.nu, setup.mass,
+                                    worker->laplacian, worker->solver, worker->analysed, x);
+  });
+  for (size_t layer = 1; layer < n; ++layer) {
+    if (!std::binary_search(solved.begin(), solved.end(), layer)) {
+      patterns[layer] = patterns[layer - 1];
+    }
   }
   return patterns;
 }

@@ -61,6 +61,12 @@ struct StripePattern {
 // may trace count them the same way.
 int count_phase_levels(double a, double b);
 
+// Per face the direction of the pattern's isolines (rad, in (-pi/2, pi/2], from +x, CCW): the
+// normal of the gradient of the face's linear phase. NaN where the face is not usable or the
+// stripes fork in it (no single direction). V is #V x 2 (mm).
+Eigen::VectorXd stripe_direction(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
+                                 const StripePattern& pattern);
+
 // Stripe patterns of a sequence of line fields on the same plate (one per printed layer): theta
 // per vertex (rad, from +x, CCW). Each pattern is the smallest eigenvector of the connection
 // Laplacian E of its field (Knöppel et al. 2015 §5: cotan weights, faces with a field singularity
@@ -77,5 +83,17 @@ std::vector<StripePattern> stripe_patterns(const Eigen::MatrixXd& V, const Eigen
                                            const EdgeTopology& topology,
                                            const std::vector<Eigen::VectorXd>& theta_vertex,
                                            const StripeOptions& options);
+
+// The patterns of fields close to earlier ones (theta_vertex[k] near previous_theta[k], whose
+// pattern is previous[k]): each starts from its own earlier pattern advanced by the integrated
+// change of the 1-form, so it keeps its forks and offsets, and the fields are solved side by side
+// (TBB; each its own factorization). The same inverse power iteration and stopping rule as
+// stripe_patterns. Deterministic.
+std::vector<StripePattern> restripe_patterns(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
+                                             const EdgeTopology& topology,
+                                             const std::vector<Eigen::VectorXd>& theta_vertex,
+                                             const std::vector<Eigen::VectorXd>& previous_theta,
+                                             const std::vector<StripePattern>& previous,
+                                             const StripeOptions& options);
 
 }  // namespace flatmorph

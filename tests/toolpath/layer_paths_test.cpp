@@ -12,6 +12,7 @@
 #include <Eigen/Geometry>
 
 #include "common/error.h"
+#include "gcode/deposited_plate.h"
 #include "plate/layer_stack.h"
 #include "toolpath/path_quality.h"
 #include "toolpath/test_plates.h"
@@ -93,6 +94,11 @@ LayerPaths check_acceptance(const Case& c, const TestLayers& options) {
     EXPECT_LT(qi.angle_p95_deg, 10.0) << "layer " << k;
     EXPECT_NEAR(layer.z, k * options.layer_height, 1e-9);
   }
+  // A correction is kept only when it brings the stripes closer to the layers' directions.
+  const int tried =
+      result.field_corrections + (result.field_corrections < options.field_corrections ? 1 : 0);
+  EXPECT_EQ(static_cast<int>(result.stripe_turn_deg.size()), 1 + tried);
+  EXPECT_LE(result.stripe_turn_deg[result.field_corrections], result.stripe_turn_deg.front());
   return result;
 }
 
@@ -168,6 +174,66 @@ TEST(LayerPaths, Theta2MakesLayersDiffer) {
   EXPECT_NEAR(mean_direction(result.toolpath.layers[0]), -0.3, 1e-3);
   EXPECT_NEAR(mean_direction(result.toolpath.layers[1]), 0.0, 1e-3);
   EXPECT_NEAR(mean_direction(result.toolpath.layers[2]), 0.3, 1e-3);
+}
+
+// Per layer and face, the direction the layer's paths print there (the beads rasterized as the
+// G-code reader's plate does, gcode/deposited_plate.h), minus the stack's theta^k: mean |.|
+// over the faces at least 3 mm inside the plate, radians.
+double mean_printed_turn(const TestPlate& plate, const LayerStack& stack, const Toolpath& paths) {
+  GcodeDeposition deposition;
+  for (size_t k = 0; k < paths.layers.size(); ++k) {
+    for (const PathPolyline& path : paths.layers[k].paths) {
+      for (Eigen::Index i = 0; i + 1 < path.points.rows(); ++i) {
+        DepositedBead bead;
+        bead.start = path.points.row(i).transpose();
+        bead.end = path.points.row(i + 1).transpose();
+        bead.width = path.segments[i].width;
+        bead.height = path.segments[i].layer_height;
+        bead.layer = static_cast<int>(k);
+        deposition.beads.push_back(bead);
+      }
+    }
+  }
+  deposition.num_layers = static_cast<int>(paths.layers.size());
+  const std::vector<DepositedLayer> printed = rasterize_deposition(deposition, plate.V, plate.F);
+  const Eigen::Vector2d lo = plate.V.colwise().minCoeff(), hi = plate.V.colwise().maxCoeff();
+  double sum = 0;
+  int count = 0;
+  for (int f = 0; f < plate.F.rows(); ++f) {
+    bool inside = true;
+    for (int j = 0; j < 3; ++j) {
+      const Eigen::Vector2d x = plate.V.row(plate.F(f, j)).transpose();
+      inside = inside && (x - lo).minCoeff() >= 3 && (hi - x).minCoeff() >= 3;
+    }
+    if (!inside) continue;
+    for (size_t k = 0; k < printed.size(); ++k) {
+      sum += std::abs(std::remainder(printed[k].theta(f) - stack.layers[k].theta(f), kPi));
+      ++count;
+    }
+  }
+  return sum / count;
+}
+
+TEST(LayerPaths, FieldCorrectionsBringThePrintedDirectionsToTheLayers) {
+  // A field that turns within a few faces, as an optimized theta2 does: the stripes cut its
+  // corners, and each layer by a different amount, which changes the twist between layers that
+  // the design is made of. Re-aiming the fields by the measured turn must bring each face's
+  // printed direction closer to theta^k.
+  const TestPlate plate = rectangle_plate(40, 24, 1.5);
+  const Eigen::VectorXd theta1 = per_face(
+      plate, [](double x, double y) { return 0.3 + 0.35 * std::sin(0.6 * x) * std::cos(0.5 * y); });
+  const Eigen::VectorXd theta2 =
+      per_vertex(plate, [](double x, double y) { return 0.6 * std::sin(0.9 * x + 0.4 * y); });
+  TestLayers options = few_layers(3);
+  const LayerStack stack = test_stack(plate.F, theta1, theta2, options);
+  options.field_corrections = 0;
+  const double uncorrected =
+      mean_printed_turn(plate, stack, stack_layer_paths(plate.V, plate.F, stack, options).toolpath);
+  options.field_corrections = 2;
+  const double corrected =
+      mean_printed_turn(plate, stack, stack_layer_paths(plate.V, plate.F, stack, options).toolpath);
+  EXPECT_LT(corrected, 0.6 * uncorrected)
+      << uncorrected * 180 / kPi << " deg before, " << corrected * 180 / kPi << " deg after";
 }
 
 TEST(LayerPaths, SegmentsAndHeights) {
