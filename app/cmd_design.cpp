@@ -25,6 +25,11 @@
 namespace flatmorph::cli {
 namespace {
 
+// Past this distance (average, % of the diagonal) between the shapes predicted from plate.gcode
+// and from the fields, the design is not steady: the paths' small departures from the fields
+// change its shape (issue 22's acceptance bar).
+constexpr double kSteadyDesignPercent = 1.0;
+
 constexpr int kMaxFaces = 2'000'000;
 constexpr double kExampleWidthMm = 100.0;  // --width default for built-in examples
 
@@ -277,6 +282,17 @@ int run_design(DesignCliOptions& o, const GlobalOptions& global) {
     fmt::print(stderr, "flatmorph: warning: the theta2 optimization did not converge: {}\n",
                design.optimization.stop_reason);
   }
+  if (loop && loop->to_prediction.mean_percent > kSteadyDesignPercent) {
+    fmt::print(stderr,
+               "flatmorph: warning: the shape plate.gcode prints lies {:.2f} % / {:.2f} % (avg / "
+               "max of the diagonal) from the fields' prediction: the design sits at a fold of "
+               "its equilibria, where paths a degree off make the plate snap to another shape; "
+               "expect the G-code's shape ({:.2f} % / {:.2f} % from the target, "
+               "gcode_simulated.ply) rather than simulated.ply. Another --stretch (or --stretch "
+               "all) may give a steadier design\n",
+               loop->to_prediction.mean_percent, loop->to_prediction.max_percent,
+               loop->to_target.mean_percent, loop->to_target.max_percent);
+  }
   if (o.json) fmt::print("{}\n", record.dump(2));
   if (silent) return 0;
   const DesignMetrics& m = design.metrics;
@@ -286,6 +302,13 @@ int run_design(DesignCliOptions& o, const GlobalOptions& global) {
       "{:.3f} % / {:.3f} % optimized; max |theta2| {:.4f} rad\n",
       m.dist_to_sim_avg_pct, m.dist_to_sim_max_pct, m.dist_to_optim_avg_pct,
       m.dist_to_optim_max_pct, m.theta2_max_abs_rad);
+  if (loop) {
+    fmt::print(
+        "as plate.gcode prints it: {:.3f} % / {:.3f} % from the target, {:.3f} % / {:.3f} % from "
+        "the fields' prediction\n",
+        loop->to_target.mean_percent, loop->to_target.max_percent,
+        loop->to_prediction.mean_percent, loop->to_prediction.max_percent);
+  }
   fmt::print(
       "wrote {}: flat.ply, target.ply, simulated.ply, design.json{}, report.html and "
       "pictures (*.png)\n",
