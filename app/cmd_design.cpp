@@ -306,8 +306,8 @@ int run_design(DesignCliOptions& o, const GlobalOptions& global) {
     fmt::print(
         "as plate.gcode prints it: {:.3f} % / {:.3f} % from the target, {:.3f} % / {:.3f} % from "
         "the fields' prediction\n",
-        loop->to_target.mean_percent, loop->to_target.max_percent,
-        loop->to_prediction.mean_percent, loop->to_prediction.max_percent);
+        loop->to_target.mean_percent, loop->to_target.max_percent, loop->to_prediction.mean_percent,
+        loop->to_prediction.max_percent);
   }
   fmt::print(
       "wrote {}: flat.ply, target.ply, simulated.ply, design.json{}, report.html and "
