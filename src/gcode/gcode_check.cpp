@@ -52,7 +52,7 @@ class Checker {
     if (violations_.size() < max_) violations_.push_back({line_, kind, std::move(reason)});
   }
 
-  bool relative_e() const { return m83_ || g91_; }
+  bool relative_e() const { return relative_e_; }
 
   void process(std::string_view line) {
     if (line.empty()) return;
@@ -71,12 +71,13 @@ class Checker {
     } else if (n == "G2" || n == "G3") {
       if (!check_numbers(cmd, line, "XYZEFIJR")) return;
       move(cmd, false, true, n == "G2");
-    } else if (n == "G90") {
-      g91_ = false;
-    } else if (n == "G91") {
-      g91_ = true;
+    } else if (n == "G90" || n == "G91") {
+      // Marlin 2, as the reader (gcode_reader.cpp): G90/G91 set every axis, E included, until
+      // the next M82/M83.
+      g91_ = relative_e_ = n == "G91";
+      e_max_ = e_;
     } else if (n == "M82" || n == "M83") {
-      m83_ = n == "M83";
+      relative_e_ = n == "M83";
       declared_ = true;
       e_max_ = e_;
     } else if (n == "G92") {
@@ -421,7 +422,7 @@ class Checker {
   std::array<double, 3> pos_{0, 0, 0};  // logical position (mm), valid where known_
   std::array<bool, 3> known_{false, false, false};
   bool g91_ = false;
-  bool m83_ = false;
+  bool relative_e_ = false;  // M83, or G91 after the last M82/M83
   bool declared_ = false;
   bool reported_no_mode_ = false;
   double e_ = 0;      // the E register

@@ -56,6 +56,14 @@ std::optional<std::string> parse_command(std::string_view line, Command& cmd) {
   cmd.name.assign(line.substr(0, i));
   std::transform(cmd.name.begin(), cmd.name.end(), cmd.name.begin(), ::toupper);
   if (!is_classic(cmd.name)) return std::nullopt;  // extended commands carry KEY=VALUE words
+  // Firmware reads the number: "G01" is G1 and "M083" M83. Leading zeros go (a digit stays), so
+  // every rule that names a command sees one spelling.
+  size_t first = 1;
+  while (first + 1 < cmd.name.size() && cmd.name[first] == '0' &&
+         std::isdigit(static_cast<unsigned char>(cmd.name[first + 1]))) {
+    ++first;
+  }
+  cmd.name.erase(1, first - 1);
   while (i < line.size()) {
     const char c = static_cast<char>(std::toupper(static_cast<unsigned char>(line[i])));
     if (c == ' ' || c == '\t') {

@@ -95,6 +95,38 @@ TEST(GcodeCheck, ReadsTheUsualSpellings) {
   EXPECT_EQ(found[0].kind, ViolationKind::kOutsideBed);
 }
 
+TEST(GcodeCheck, ReadsCommandNumbersWithLeadingZeros) {
+  // Firmware reads "G01" as G1 and "G00" as G0, as the reader does.
+  const std::string text =
+      "M83\nM104 S190\nM109 S190\nG01 X500 Y10\nG00 X10 Y10 E1\nM104 S0\nM140 S0\nM84\n";
+  const std::vector<GcodeViolation> found =
+      check_gcode(text, load_printer("generic-marlin"), {load_material("pla-paper")});
+  ASSERT_EQ(found.size(), 2u);
+  EXPECT_EQ(found[0].kind, ViolationKind::kOutsideBed);
+  EXPECT_EQ(found[0].line, 4);
+  EXPECT_EQ(found[1].kind, ViolationKind::kExtrusionOnTravel);
+  EXPECT_EQ(found[1].line, 5);
+}
+
+TEST(GcodeCheck, G90AndG91SetTheExtruderModeAsMarlinDoes) {
+  // Marlin 2 (and the reader): G90/G91 set E too, until the next M82/M83. After "M83, G90" E is
+  // absolute, so E0.1 after E0.4 pulls filament back while the head moves; after "M82, G91" it is
+  // relative, and the same lines extrude.
+  const auto check = [](const std::string& modes) {
+    const std::string text = "M104 S190\nM109 S190\n" + modes +
+                             "G92 E0\nG1 X10 Y10 F3000\nG1 X20 Y10 E0.4 F1200\n"
+                             "G1 X30 Y10 E0.1\nM104 S0\nM140 S0\nM84\n";
+    return check_gcode(text, load_printer("generic-marlin"), {load_material("pla-paper")});
+  };
+  const std::vector<GcodeViolation> absolute = check("M83\nG90\n");
+  ASSERT_EQ(absolute.size(), 1u);
+  EXPECT_EQ(absolute[0].line, 8);
+  EXPECT_TRUE(check("M82\nG91\nG90\nM83\n").empty());
+  const std::vector<GcodeViolation> relative = check("M82\nG91\n");
+  // G91 makes X and Y relative too: the head ends at (60, 40), still on the bed.
+  EXPECT_TRUE(relative.empty());
+}
+
 TEST(GcodeCheck, UnknownCommandsAndMacrosAreFine) {
   const std::string text =
       "START_PRINT BED_TEMP=55 EXTRUDER_TEMP=190\nM862.3 P \"MK3S\"\nM117 Hello world\n"
