@@ -207,10 +207,7 @@ int run_simulate_gcode(const SimulateOptions& o, const GlobalOptions& global) {
   MeshProperties properties;
   if (!o.target_path.empty()) {
     const Eigen::MatrixXd full_target = read_shape_of(o.target_path, plate_mesh, "target");
-    Eigen::MatrixXd target(p.plate.kept_vertices.size(), 3);
-    for (Eigen::Index v = 0; v < target.rows(); ++v) {
-      target.row(v) = full_target.row(p.plate.kept_vertices(v));
-    }
+    const Eigen::MatrixXd target = full_target(p.plate.kept_vertices, Eigen::all);
     predicted = rigidly_aligned(predicted, target);
     const ShapeDistance d = shape_distance(predicted, target);
     properties.set_vertex("deviation_mm", d.per_vertex_mm);

@@ -251,6 +251,23 @@ std::vector<DepositedLayer> rasterize_deposition(const GcodeDeposition& depositi
   return layers;
 }
 
+Eigen::AlignedBox2d first_layer_bounds(const GcodeDeposition& deposition,
+                                       const DepositedPlateOptions& options) {
+  const std::vector<const DepositedBead*> beads = part_beads(deposition, options);
+  int first = deposition.num_layers;
+  for (const DepositedBead* bead : beads) first = std::min(first, bead->layer);
+  Eigen::AlignedBox2d bounds;  // empty
+  for (const DepositedBead* bead : beads) {
+    if (bead->layer != first) continue;
+    const Eigen::Vector2d w = Eigen::Vector2d::Constant(bead->width / 2);
+    bounds.extend(Eigen::Vector2d(bead->start.head<2>() - w));
+    bounds.extend(Eigen::Vector2d(bead->end.head<2>() - w));
+    bounds.extend(Eigen::Vector2d(bead->start.head<2>() + w));
+    bounds.extend(Eigen::Vector2d(bead->end.head<2>() + w));
+  }
+  return bounds;
+}
+
 FootprintMesh footprint_plate(const GcodeDeposition& deposition, const std::string& source,
                               const DepositedPlateOptions& options) {
   if (!(options.resolution_mm > 0) || !std::isfinite(options.resolution_mm)) {
@@ -258,23 +275,19 @@ FootprintMesh footprint_plate(const GcodeDeposition& deposition, const std::stri
                     fmt::format("--resolution {}: give the plate mesh's edge length in mm (e.g. 1)",
                                 options.resolution_mm));
   }
-  std::vector<const DepositedBead*> beads = part_beads(deposition, options);
-  int first = deposition.num_layers;
-  for (const DepositedBead* bead : beads) first = std::min(first, bead->layer);
-  std::erase_if(beads, [&](const DepositedBead* b) { return b->layer != first; });
-  if (beads.empty()) {
+  const Eigen::AlignedBox2d bounds = first_layer_bounds(deposition, options);
+  if (bounds.isEmpty()) {
     throw UserError(ErrorCategory::kFormat,
                     fmt::format("{}: no bead of the part to take the plate's footprint from; give "
                                 "the plate mesh (--plate flat.ply)",
                                 source));
   }
+  std::vector<const DepositedBead*> beads = part_beads(deposition, options);
+  int first = deposition.num_layers;
+  for (const DepositedBead* bead : beads) first = std::min(first, bead->layer);
+  std::erase_if(beads, [&](const DepositedBead* b) { return b->layer != first; });
   const double r = options.resolution_mm;
-  Eigen::Vector2d lo = beads.front()->start.head<2>(), hi = lo;
-  for (const DepositedBead* bead : beads) {
-    const Eigen::Vector2d w = Eigen::Vector2d::Constant(bead->width / 2);
-    lo = lo.cwiseMin(bead->start.head<2>() - w).cwiseMin(bead->end.head<2>() - w);
-    hi = hi.cwiseMax(bead->start.head<2>() + w).cwiseMax(bead->end.head<2>() + w);
-  }
+  const Eigen::Vector2d lo = bounds.min(), hi = bounds.max();
   const long i0 = static_cast<long>(std::floor(lo.x() / r)),
              j0 = static_cast<long>(std::floor(lo.y() / r));
   const long nx = static_cast<long>(std::floor(hi.x() / r)) - i0 + 1;

@@ -8,6 +8,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <string>
 #include <vector>
 
@@ -44,6 +45,12 @@ struct DepositedLayer {
 std::vector<DepositedLayer> rasterize_deposition(const GcodeDeposition& deposition,
                                                  const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
                                                  const DepositedPlateOptions& options = {});
+
+// The bounding box (bed coordinates, mm) of the part's beads in the lowest layer that has any,
+// each widened by half its width: what a plate is placed by and a footprint meshed over. Empty
+// when the file has no part bead.
+Eigen::AlignedBox2d first_layer_bounds(const GcodeDeposition& deposition,
+                                       const DepositedPlateOptions& options = {});
 
 // The plate mesh of a file printed without one: the cells of a square lattice of
 // `options.resolution_mm` whose centre lies under a bead of the first layer, each split into two

@@ -9,23 +9,6 @@
 #include "plate/laminate.h"
 
 namespace flatmorph {
-namespace {
-
-// The bounding box centre of the first layer's part beads (bed coordinates, mm).
-Eigen::Vector2d first_layer_centre(const GcodeDeposition& deposition) {
-  int first = deposition.num_layers;
-  for (const DepositedBead& bead : deposition.beads) first = std::min(first, bead.layer);
-  Eigen::Vector2d lo = Eigen::Vector2d::Constant(INFINITY), hi = -lo;
-  for (const DepositedBead& bead : deposition.beads) {
-    if (bead.layer != first) continue;
-    const Eigen::Vector2d w = Eigen::Vector2d::Constant(bead.width / 2);
-    lo = lo.cwiseMin(bead.start.head<2>() - w).cwiseMin(bead.end.head<2>() - w);
-    hi = hi.cwiseMax(bead.start.head<2>() + w).cwiseMax(bead.end.head<2>() + w);
-  }
-  return (lo + hi) / 2;
-}
-
-}  // namespace
 
 GcodePrediction predict_from_gcode(std::string_view text, const std::string& source,
                                    const std::vector<Material>& tool_materials,
@@ -48,7 +31,7 @@ GcodePrediction predict_from_gcode(std::string_view text, const std::string& sou
     } else {
       const Eigen::Vector2d centre =
           (V.colwise().minCoeff() + V.colwise().maxCoeff()).transpose() / 2;
-      out.plate_to_bed = first_layer_centre(deposition) - centre;
+      out.plate_to_bed = first_layer_bounds(deposition, options.deposit).center() - centre;
     }
   } else {
     FootprintMesh footprint = footprint_plate(deposition, source, options.deposit);
@@ -70,26 +53,13 @@ GcodePrediction predict_from_gcode(std::string_view text, const std::string& sou
       throw std::invalid_argument(
           "predict_from_gcode: the start needs one 3D row per plate vertex");
     }
-    start.resize(out.plate.kept_vertices.size(), 3);
-    for (Eigen::Index v = 0; v < start.rows(); ++v) {
-      start.row(v) = options.start.row(out.plate.kept_vertices(v));
-    }
+    start = options.start(out.plate.kept_vertices, Eigen::all);
   } else {
     start = flat_start(problem);
   }
   out.result = simulate(problem, start, options.simulation);
   return out;
 }
-
-namespace {
-
-Eigen::MatrixXd rows_of(const Eigen::MatrixXd& M, const Eigen::VectorXi& rows) {
-  Eigen::MatrixXd out(rows.size(), M.cols());
-  for (Eigen::Index i = 0; i < rows.size(); ++i) out.row(i) = M.row(rows(i));
-  return out;
-}
-
-}  // namespace
 
 ClosedLoop close_the_loop(std::string_view gcode, const std::string& source,
                           const Eigen::MatrixXd& plate, const Eigen::MatrixXi& F,
@@ -103,8 +73,8 @@ ClosedLoop close_the_loop(std::string_view gcode, const std::string& source,
   loop.prediction = predict_from_gcode(gcode, source, tool_materials, options);
   const Eigen::VectorXi& kept = loop.prediction.plate.kept_vertices;
   const Eigen::MatrixXd& predicted = loop.prediction.result.V;
-  const Eigen::MatrixXd kept_target = rows_of(target, kept);
-  const Eigen::MatrixXd kept_fields = rows_of(fields_prediction, kept);
+  const Eigen::MatrixXd kept_target = target(kept, Eigen::all);
+  const Eigen::MatrixXd kept_fields = fields_prediction(kept, Eigen::all);
   loop.on_target = rigidly_aligned(predicted, kept_target);
   loop.to_target = shape_distance(loop.on_target, kept_target);
   // In % of the target's diagonal, as every other distance of a run.
