@@ -2,6 +2,8 @@
 
 #include <fmt/core.h>
 
+#include <algorithm>
+
 namespace flatmorph {
 namespace {
 
@@ -30,6 +32,12 @@ double layer_height_for_lambda1(const ThicknessCurve& curve, double lambda1) {
 
 double layer_height_for_shrinkage(const ThicknessCurve& curve, double shrinkage) {
   return layer_height_for_lambda1(curve, 1 - shrinkage);
+}
+
+std::pair<double, double> reachable_shrinkage(const ThicknessCurve& curve) {
+  const double at_min = 1 - lambda1_at_layer_height(curve, curve.min_layer_height);
+  const double at_max = 1 - lambda1_at_layer_height(curve, curve.max_layer_height);
+  return std::minmax(at_min, at_max);
 }
 
 }  // namespace flatmorph

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "material/monotone_curve.h"
@@ -41,5 +42,10 @@ double layer_height_for_lambda1(const ThicknessCurve& curve, double lambda1);
 
 // The same for a wanted shrinkage s = 1 - lambda1 (a fraction: 0.3 for 30 %).
 double layer_height_for_shrinkage(const ThicknessCurve& curve, double shrinkage);
+
+// The least and the greatest shrinkage (fractions) the curve gives on its calibrated range: those
+// at its two ends, the curve being monotone (the thickest layer shrinks least). The range a design
+// method may ask of the material (SCF 2020 §8 "Flattening quality": edges outside it are invalid).
+std::pair<double, double> reachable_shrinkage(const ThicknessCurve& curve);
 
 }  // namespace flatmorph

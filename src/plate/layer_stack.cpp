@@ -2,12 +2,22 @@
 
 #include <fmt/core.h>
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
 #include "common/error.h"
 
 namespace flatmorph {
+namespace {
+
+// Where the middle of layer k (1 on the bed) of n equal layers sits in the plate's thickness, as a
+// fraction z/h from -1/2 (bed) to +1/2 (top): Eq. 15 of Shrink & Morph sampled exactly, layer k
+// spanning z/h in [(k-1)/n - 1/2, k/n - 1/2], so its mean lambda1 is lambda1 + offset
+// delta_lambda1 and it changes by delta_lambda1 / n through it.
+double bilayer_offset(int k, int n) { return (k - 0.5) / n - 0.5; }
+
+}  // namespace
 
 Layer uniform_layer(int num_faces, int material, const Material& properties,
                     double printed_thickness) {
@@ -113,13 +123,63 @@ LayerStack shrink_morph_layer_stack(const Eigen::VectorXd& theta1, const Eigen::
     Layer layer = uniform_layer(num_faces, 0, material, layer_height);
     // Paper §3.2.3: the outer layers print theta1 -/+ theta2/2.
     layer.theta = theta1 + shrink_morph_layer_weight(k, n) * theta2;
-    // Eq. 15 sampled exactly: the layer spans z/h in [(k-1)/n - 1/2, k/n - 1/2].
-    const double mid = (k - 0.5) / n - 0.5;
-    layer.lambda1.setConstant(material.lambda1 + mid * material.delta_lambda1);
+    layer.lambda1.array() += bilayer_offset(k, n) * material.delta_lambda1;
     layer.delta_lambda1.setConstant(material.delta_lambda1 / n);
     stack.layers.push_back(std::move(layer));
   }
   return stack;
+}
+
+ThicknessControlledStack thickness_controlled_layer_stack(const Eigen::VectorXd& direction,
+                                                          const Eigen::VectorXd& shrinkage,
+                                                          const Material& material,
+                                                          std::optional<int> num_layers) {
+  if (direction.size() != shrinkage.size()) {
+    throw std::invalid_argument(
+        fmt::format("direction has {} faces but shrinkage has {}: give one value per face for both",
+                    direction.size(), shrinkage.size()));
+  }
+  if (!material.thickness_curve) {
+    throw UserError(ErrorCategory::kOption,
+                    fmt::format("material \"{}\" has no thickness curve, which turns each path's "
+                                "shrinkage into a layer height: give a material with a thickness "
+                                "curve, e.g. pla-geodesy, or calibrate one ('flatmorph calibrate "
+                                "print --thickness-ramp', then 'flatmorph calibrate fit')",
+                                material.name));
+  }
+  const ThicknessCurve& curve = *material.thickness_curve;
+  const int n = num_layers.value_or(curve.layers);
+  if (n < 1) {
+    throw UserError(ErrorCategory::kOption,
+                    fmt::format("{} layers requested: print at least 1 layer", n));
+  }
+  const auto [least, most] = reachable_shrinkage(curve);
+  const Eigen::Index num_faces = direction.size();
+  ThicknessControlledStack out;
+  out.clamped = Eigen::VectorXi::Zero(num_faces);
+  Eigen::VectorXd height(num_faces), lambda1(num_faces);
+  for (Eigen::Index f = 0; f < num_faces; ++f) {
+    double s = shrinkage(f);
+    if (!std::isfinite(s)) {
+      throw std::invalid_argument(fmt::format("face {}: the wanted shrinkage is {}", f, s));
+    }
+    if (s < least || s > most) {
+      out.clamped(f) = s < least ? -1 : 1;
+      s = std::clamp(s, least, most);
+    }
+    height(f) = layer_height_for_shrinkage(curve, s);
+    lambda1(f) = lambda1_at_layer_height(curve, height(f));
+  }
+  out.stack.materials = {material};
+  for (int k = 1; k <= n; ++k) {
+    Layer layer = uniform_layer(static_cast<int>(num_faces), 0, material, 0.0);
+    layer.printed_thickness = height;
+    layer.theta = direction;
+    layer.lambda1 = lambda1.array() + bilayer_offset(k, n) * material.delta_lambda1;
+    layer.delta_lambda1.setConstant(material.delta_lambda1 / n);
+    out.stack.layers.push_back(std::move(layer));
+  }
+  return out;
 }
 
 Eigen::VectorXd vertex_to_face_average(const Eigen::MatrixXi& F, const Eigen::VectorXd& values) {

@@ -8,6 +8,7 @@
 
 #include <Eigen/Core>
 #include <numbers>
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -78,6 +79,34 @@ double shrink_morph_layer_weight(int k, int num_layers);
 // stronger turns between neighbouring layers. On strongly curved test caps a bound of π/2 or 1.9
 // rad ended 2-3x closer to the target than π or none (docs/design.md).
 inline constexpr double kShrinkMorphTheta2Bound = std::numbers::pi / 2;
+
+// The thickness-controlled printing rule of SCF 2020 (§6 "Material characterization", §6.4) and
+// Geodesy (CHI 2019 §3), the only place that knows it: every face prints num_layers identical
+// layers (SCF 2020 §6.4 stacks 6 copies of one layer at nozzle heights z_k = k h) along
+// `direction` (rad, per face), of the layer height h (mm) at which the material's thickness curve
+// shrinks by the face's wanted `shrinkage` σ (a fraction, 1 − λ1: thinner layers shrink more), with
+// λ1 the curve at that h, so that the printed height and the predicted shrink come from one curve.
+// λ2, λ3 are the material's; its Δλ1 (0 for the papers' sheet, printed "symmetric along the
+// thickness", SCF 2020 §8) varies λ1 through each face's whole thickness as Shrink & Morph Eq. 15
+// does. num_layers defaults to the layers of the curve's calibration samples (6 for pla-geodesy):
+// the shrink was measured on that many.
+//
+// A σ the curve cannot reach is clamped to the reachable range (reachable_shrinkage) and flagged,
+// never refused: a design method reports such faces as invalid (SCF 2020 §8, Table 1 "Inv.") and
+// prints the nearest shrink. Throws UserError (kOption) when the material has no thickness curve
+// or num_layers < 1; std::invalid_argument on sizes that differ or a non-finite σ (a caller's bug).
+struct ThicknessControlledStack {
+  LayerStack stack;
+  // Per face: 0 where σ was reachable, -1 where it was below the least shrink the curve gives
+  // (raised to it; σ < 0 asks the path to grow), +1 where above the greatest (lowered to it).
+  Eigen::VectorXi clamped;
+
+  int num_clamped() const { return static_cast<int>((clamped.array() != 0).count()); }
+};
+
+ThicknessControlledStack thickness_controlled_layer_stack(
+    const Eigen::VectorXd& direction, const Eigen::VectorXd& shrinkage, const Material& material,
+    std::optional<int> num_layers = std::nullopt);
 
 // A per-vertex field averaged to faces (the plain mean of the three corners), as the paper does
 // for theta2 (§3.2.2).
