@@ -18,10 +18,6 @@ struct InfoOptions {
   bool json = false;
 };
 
-std::string problem_line(const std::string& source, const MeshProblem& p) {
-  return fmt::format("{}: {}: {} (first: {}); {}", source, p.what, p.count, p.first, p.fix);
-}
-
 int run_info(const InfoOptions& options) {
   const std::string source = describe(options.input);
   MeshFile file;

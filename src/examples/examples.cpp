@@ -120,26 +120,6 @@ std::vector<double> even_ring_radii(const HeightField& field, int rings) {
   return radii;
 }
 
-// Disk of concentric rings: ring i (i >= 1) at radius radii[i] with 6 i vertices at angles
-// 2 pi j / (6 i). Every interior vertex has valence 6 (a hexagonal lattice bent onto circles), so
-// triangles stay near-equilateral. Faces are counter-clockwise seen from +z.
-Mesh ring_disk(const std::vector<double>& radii) {
-  const int rings = static_cast<int>(radii.size()) - 1;
-  std::vector<int> sizes;
-  for (int i = 1; i <= rings; ++i) sizes.push_back(6 * i);
-  Mesh mesh;
-  mesh.F = ring_mesh_faces(sizes);
-  mesh.V.setZero(1 + 3 * rings * (rings + 1), 3);
-  int v = 1;
-  for (int i = 1; i <= rings; ++i) {
-    for (int j = 0; j < 6 * i; ++j) {
-      const double psi = 2.0 * std::numbers::pi * j / (6 * i);
-      mesh.V.row(v++) << radii[i] * std::cos(psi), radii[i] * std::sin(psi), 0.0;
-    }
-  }
-  return mesh;
-}
-
 }  // namespace
 
 std::vector<ExampleInfo> example_list() {

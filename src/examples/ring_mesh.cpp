@@ -1,5 +1,7 @@
 #include "examples/ring_mesh.h"
 
+#include <cmath>
+#include <numbers>
 #include <stdexcept>
 
 namespace flatmorph {
@@ -42,6 +44,23 @@ Eigen::MatrixXi ring_mesh_faces(const std::vector<int>& ring_sizes) {
     }
   }
   return F;
+}
+
+Mesh ring_disk(const std::vector<double>& radii) {
+  const int rings = static_cast<int>(radii.size()) - 1;
+  std::vector<int> sizes;
+  for (int i = 1; i <= rings; ++i) sizes.push_back(6 * i);
+  Mesh mesh;
+  mesh.F = ring_mesh_faces(sizes);
+  mesh.V.setZero(1 + 3 * rings * (rings + 1), 3);
+  int v = 1;
+  for (int i = 1; i <= rings; ++i) {
+    for (int j = 0; j < 6 * i; ++j) {
+      const double psi = 2.0 * std::numbers::pi * j / (6 * i);
+      mesh.V.row(v++) << radii[i] * std::cos(psi), radii[i] * std::sin(psi), 0.0;
+    }
+  }
+  return mesh;
 }
 
 }  // namespace flatmorph

@@ -454,19 +454,21 @@ MeshDiagnosis diagnose_mesh(const Mesh& mesh) {
   const Eigen::MatrixXi& F = mesh.F;
   d.num_vertices = mesh.num_vertices();
   d.num_faces = mesh.num_faces();
-  auto add = [&](ErrorCategory category, std::string what, int count, std::string first,
-                 std::string fix) {
-    d.problems.push_back({category, std::move(what), count, std::move(first), std::move(fix)});
+  auto add = [&](MeshProblemKind kind, ErrorCategory category, std::string what, int count,
+                 std::string first, std::string fix) {
+    d.problems.push_back(
+        {kind, category, std::move(what), count, std::move(first), std::move(fix)});
   };
 
   if (d.num_faces == 0) {
-    add(ErrorCategory::kGeometry, "empty mesh", 0, "there are no triangles",
+    add(MeshProblemKind::kEmpty, ErrorCategory::kGeometry, "empty mesh", 0,
+        "there are no triangles",
         "check that the file holds a surface and export it again with its faces");
     return d;
   }
   // Without vertices every face is out of range, which the index check below reports.
   if ((d.num_vertices > 0 && V.cols() != 3) || F.cols() != 3) {
-    add(ErrorCategory::kGeometry, "not a triangle mesh in 3D", 1,
+    add(MeshProblemKind::kNotTriangles, ErrorCategory::kGeometry, "not a triangle mesh in 3D", 1,
         fmt::format("{} coordinates per vertex, {} corners per face", V.cols(), F.cols()),
         "export the surface as triangles with x, y, z coordinates");
     return d;
@@ -479,8 +481,9 @@ MeshDiagnosis diagnose_mesh(const Mesh& mesh) {
   }
   if (bad_vertices > 0) {
     const int v = first_bad_vertex;
-    add(ErrorCategory::kGeometry, "NaN, infinite or absurdly large (> 1e12) coordinates",
-        bad_vertices, fmt::format("vertex {} ({}, {}, {})", v, V(v, 0), V(v, 1), V(v, 2)),
+    add(MeshProblemKind::kBadCoordinates, ErrorCategory::kGeometry,
+        "NaN, infinite or absurdly large (> 1e12) coordinates", bad_vertices,
+        fmt::format("vertex {} ({}, {}, {})", v, V(v, 0), V(v, 1), V(v, 2)),
         "fix or delete these vertices in a mesh editor and export again");
   }
 
@@ -495,7 +498,8 @@ MeshDiagnosis diagnose_mesh(const Mesh& mesh) {
     if (!has_repeated_index(F, f)) topo_faces.push_back(f);
   }
   if (out_of_range > 0) {
-    add(ErrorCategory::kTopology, "faces use vertices that do not exist", out_of_range,
+    add(MeshProblemKind::kMissingVertices, ErrorCategory::kTopology,
+        "faces use vertices that do not exist", out_of_range,
         fmt::format("{}; the mesh has {} vertices", face_string(F, first_out), d.num_vertices),
         "the file is damaged: export it again");
   }
@@ -508,7 +512,8 @@ MeshDiagnosis diagnose_mesh(const Mesh& mesh) {
     if (degenerate++ == 0) first_degenerate = f;
   }
   if (degenerate > 0) {
-    add(ErrorCategory::kGeometry, "zero-area faces", degenerate, face_string(F, first_degenerate),
+    add(MeshProblemKind::kZeroAreaFaces, ErrorCategory::kGeometry, "zero-area faces", degenerate,
+        face_string(F, first_degenerate),
         "delete them (flatmorph's repair does; MeshLab: Remove Zero Area Faces)");
   }
 
@@ -524,8 +529,8 @@ MeshDiagnosis diagnose_mesh(const Mesh& mesh) {
   }
   if (nonmanifold_edges > 0) {
     const int e = first_nonmanifold_edge;
-    add(ErrorCategory::kTopology, "non-manifold edges (more than two faces on one edge)",
-        nonmanifold_edges,
+    add(MeshProblemKind::kNonManifoldEdges, ErrorCategory::kTopology,
+        "non-manifold edges (more than two faces on one edge)", nonmanifold_edges,
         fmt::format("edge ({}, {}) shared by {} faces", edges.edges[e][0], edges.edges[e][1],
                     edges.num_sides(e)),
         "delete the extra faces or re-export as a manifold surface");
@@ -539,8 +544,9 @@ MeshDiagnosis diagnose_mesh(const Mesh& mesh) {
   }
   if (nonmanifold_vertices > 0) {
     const int v = first_nonmanifold_vertex;
-    add(ErrorCategory::kTopology, "non-manifold vertices (pieces touching at a single point)",
-        nonmanifold_vertices, fmt::format("vertex {} joins {} separate fans of faces", v, fans[v]),
+    add(MeshProblemKind::kNonManifoldVertices, ErrorCategory::kTopology,
+        "non-manifold vertices (pieces touching at a single point)", nonmanifold_vertices,
+        fmt::format("vertex {} joins {} separate fans of faces", v, fans[v]),
         "split the vertex (MeshLab: Repair non Manifold Vertices) or delete the faces of one fan");
   }
 
@@ -552,8 +558,8 @@ MeshDiagnosis diagnose_mesh(const Mesh& mesh) {
   }
   if (nonorientable > 0) {
     const auto [e, f, g] = o.conflict[first_conflict];
-    add(ErrorCategory::kTopology, "non-orientable surface (one-sided, like a Moebius strip)",
-        nonorientable,
+    add(MeshProblemKind::kNonOrientable, ErrorCategory::kTopology,
+        "non-orientable surface (one-sided, like a Moebius strip)", nonorientable,
         fmt::format("edge ({}, {}) between faces {} and {}", edges.edges[e][0], edges.edges[e][1],
                     topo_faces[f], topo_faces[g]),
         "cut the surface open so that it has two sides, or choose another surface");
@@ -564,8 +570,8 @@ MeshDiagnosis diagnose_mesh(const Mesh& mesh) {
     if (flipped++ == 0) first_flipped = topo_faces[i];
   }
   if (flipped > 0) {
-    add(ErrorCategory::kTopology, "faces oriented against their neighbours", flipped,
-        fmt::format("face {}", first_flipped),
+    add(MeshProblemKind::kInconsistentOrientation, ErrorCategory::kTopology,
+        "faces oriented against their neighbours", flipped, fmt::format("face {}", first_flipped),
         "run repair (flatmorph does before designing) or unify the normals (MeshLab: Re-Orient "
         "all faces coherently)");
   }
@@ -575,8 +581,8 @@ MeshDiagnosis diagnose_mesh(const Mesh& mesh) {
   if (d.num_components > 1) {
     int first = 0;
     while (component[first] != 1) ++first;
-    add(ErrorCategory::kTopology, "more than one connected piece", d.num_components,
-        fmt::format("face {} in the {} component", topo_faces[first], ordinal(1)),
+    add(MeshProblemKind::kSeveralPieces, ErrorCategory::kTopology, "more than one connected piece",
+        d.num_components, fmt::format("face {} in the {} component", topo_faces[first], ordinal(1)),
         "keep one piece (e.g. MeshLab: Remove Isolated pieces)");
   }
 
@@ -595,7 +601,7 @@ MeshDiagnosis diagnose_mesh(const Mesh& mesh) {
   if (closed > 0) {
     int first = 0;
     while (component[first] != first_closed) ++first;
-    add(ErrorCategory::kTopology, "closed surface (no boundary)", closed,
+    add(MeshProblemKind::kClosed, ErrorCategory::kTopology, "closed surface (no boundary)", closed,
         fmt::format("the piece with face {}, {} faces", topo_faces[first],
                     piece_faces[first_closed]),
         "cut the closed surface open, e.g. delete a face or a cap");
@@ -605,7 +611,8 @@ MeshDiagnosis diagnose_mesh(const Mesh& mesh) {
   d.num_boundary_loops = static_cast<int>(loops.size());
   if (loops.size() > 1) {
     const int hole = first_hole(V, loops);
-    add(ErrorCategory::kTopology, "holes (boundary loops; a disk has one)", d.num_boundary_loops,
+    add(MeshProblemKind::kHoles, ErrorCategory::kTopology, "holes (boundary loops; a disk has one)",
+        d.num_boundary_loops,
         fmt::format("hole along vertex {}, {} edges", loops[hole].front(), loops[hole].size()),
         "fill the holes (e.g. MeshLab: Close Holes) or keep only the outer part");
   }
@@ -614,12 +621,16 @@ MeshDiagnosis diagnose_mesh(const Mesh& mesh) {
   return d;
 }
 
+std::string problem_line(const std::string& source, const MeshProblem& problem) {
+  return fmt::format("{}: {}: {} (first: {}); {}", source, problem.what, problem.count,
+                     problem.first, problem.fix);
+}
+
 void require_disk(const Mesh& mesh, const std::string& source) {
   const MeshDiagnosis d = diagnose_mesh(mesh);
   if (d.is_disk()) return;
   const MeshProblem& p = d.problems.front();
-  throw UserError(p.category, fmt::format("{}: {}: {} (first: {}); {}", source, p.what, p.count,
-                                          p.first, p.fix));
+  throw UserError(p.category, problem_line(source, p));
 }
 
 }  // namespace flatmorph

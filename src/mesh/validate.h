@@ -26,13 +26,32 @@ struct RepairOptions {
   bool fix_orientation = true;
 };
 
-// Welds coincident vertices, removes unreferenced vertices, zero-area and duplicate faces, and makes
-// the orientation consistent per component when it can (keeping the orientation of each component's
-// first face). Never throws: what cannot be repaired is left to validate_mesh. Deterministic.
+// Welds coincident vertices, removes unreferenced vertices, zero-area and duplicate faces, and
+// makes the orientation consistent per component when it can (keeping the orientation of each
+// component's first face). Never throws: what cannot be repaired is left to validate_mesh.
+// Deterministic.
 RepairReport repair_mesh(Mesh& mesh, const RepairOptions& options = {});
+
+// Which check found a MeshProblem, so that a caller can word some problems itself (a height field
+// names where its holes are) without parsing `what`.
+enum class MeshProblemKind {
+  kEmpty,
+  kNotTriangles,
+  kBadCoordinates,
+  kMissingVertices,
+  kZeroAreaFaces,
+  kNonManifoldEdges,
+  kNonManifoldVertices,
+  kNonOrientable,
+  kInconsistentOrientation,
+  kSeveralPieces,
+  kClosed,
+  kHoles,
+};
 
 // One problem found in a mesh. `element` is the first offending vertex/edge/face index, or -1.
 struct MeshProblem {
+  MeshProblemKind kind;
   ErrorCategory category;  // kGeometry or kTopology
   std::string what;        // e.g. "non-manifold edge", "NaN or infinite coordinate"
   int count;               // how many elements have the problem
@@ -52,15 +71,17 @@ struct MeshDiagnosis {
   bool is_disk() const { return problems.empty(); }
 };
 
-// Checks, in this order: empty mesh, NaN/Inf or absurd (|x| > 1e12) coordinates, face indices out of
-// range, zero-area faces, non-manifold edges (more than two faces), non-manifold vertices (a fan that
-// is not one disk or half-disk), inconsistent orientation that cannot be fixed (non-orientable),
-// more than one connected component, a closed surface (no boundary), holes (more than one boundary
-// loop). Never throws.
+// Checks, in this order: empty mesh, NaN/Inf or absurd (|x| > 1e12) coordinates, face indices out
+// of range, zero-area faces, non-manifold edges (more than two faces), non-manifold vertices (a fan
+// that is not one disk or half-disk), inconsistent orientation that cannot be fixed
+// (non-orientable), more than one connected component, a closed surface (no boundary), holes (more
+// than one boundary loop). Never throws.
 MeshDiagnosis diagnose_mesh(const Mesh& mesh);
 
-// Throws UserError for the first problem of diagnose_mesh, with a one-line message:
-// "<source>: <what>: <count> (first: <first>); <fix>".
+// The one-line message for a problem: "<source>: <what>: <count> (first: <first>); <fix>".
+std::string problem_line(const std::string& source, const MeshProblem& problem);
+
+// Throws UserError for the first problem of diagnose_mesh, with its problem_line.
 void require_disk(const Mesh& mesh, const std::string& source);
 
 }  // namespace flatmorph
