@@ -9,6 +9,7 @@
 #include <fstream>
 #include <memory>
 #include <system_error>
+#include <type_traits>
 
 #include "common/error.h"
 
@@ -131,20 +132,18 @@ GrayImage read_gray_png_bytes(std::string_view bytes, const std::string& source)
   int channels = 0;
   GrayImage image;
   // stbi_load_16 keeps all 16 bits of a 16-bit file; stbi_load would cut them to 8.
-  if (stbi_is_16_bit_from_memory(data, length)) {
-    std::unique_ptr<stbi_us, StbFree> pixels(
-        stbi_load_16_from_memory(data, length, &image.width, &image.height, &channels, 0));
-    if (!pixels) throw_undecodable(source);
-    image.bits = 16;
-    image.samples = to_gray(pixels.get(), static_cast<size_t>(image.width) * image.height, channels,
+  const bool sixteen = stbi_is_16_bit_from_memory(data, length);
+  image.bits = sixteen ? 16 : 8;
+  const auto decode = [&](auto* pixels) {
+    std::unique_ptr<std::remove_pointer_t<decltype(pixels)>, StbFree> owned(pixels);
+    if (!owned) throw_undecodable(source);
+    image.samples = to_gray(owned.get(), static_cast<size_t>(image.width) * image.height, channels,
                             image.max_value());
+  };
+  if (sixteen) {
+    decode(stbi_load_16_from_memory(data, length, &image.width, &image.height, &channels, 0));
   } else {
-    std::unique_ptr<stbi_uc, StbFree> pixels(
-        stbi_load_from_memory(data, length, &image.width, &image.height, &channels, 0));
-    if (!pixels) throw_undecodable(source);
-    image.bits = 8;
-    image.samples = to_gray(pixels.get(), static_cast<size_t>(image.width) * image.height, channels,
-                            image.max_value());
+    decode(stbi_load_from_memory(data, length, &image.width, &image.height, &channels, 0));
   }
   return image;
 }
