@@ -28,7 +28,7 @@ std::vector<std::string> height_field_example_names();
 // whose only interior critical points are peaks and saddles):
 // - hill: one round peak at the centre;
 // - saddle: two equal peaks on the x axis, 0.9 R apart, with a saddle between them;
-// - island: three peaks of heights 1, 0.6 and 0.5 in a chain over a broad base;
+// - island: three peaks in a chain over a broad base, the middle one highest;
 // - ridge: a crest along the x axis, about four times as long as it is wide at half height.
 // Throws UserError(kOption) for an unknown name (listing the valid ones) or a size that is not a
 // positive number, or a resolution coarser than a quarter of the diameter.

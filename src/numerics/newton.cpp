@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include <fmt/core.h>
 
@@ -320,7 +321,23 @@ NewtonResult minimize(const NewtonProblem& problem, const Eigen::VectorXd& x0,
 
     start = Clock::now();
     Eigen::VectorXd trial_gradient(n);
-    const double energy = problem.evaluate(trial, &trial_gradient, &hessian, false);
+    double energy = problem.evaluate(trial, &trial_gradient, &hessian, false);
+    // A state whose energy is finite can still have a non-finite gradient (an element at a
+    // degenerate configuration, e.g. a buckling sheet folding a face onto a line): back off along
+    // the direction, keeping the Armijo decrease, before giving up.
+    for (int k = 0; (!std::isfinite(energy) || !all_finite(trial_gradient)) &&
+                    k < options.max_line_search_steps;
+         ++k) {
+      step *= options.backtracking_factor;
+      trial = result.x + step * direction;
+      if (problem.is_feasible && !problem.is_feasible(trial)) continue;
+      energy = problem.evaluate(trial, &trial_gradient, &hessian, false);
+      if (std::isfinite(energy) &&
+          energy > result.energy + options.armijo_constant * step * slope) {
+        energy = std::numeric_limits<double>::quiet_NaN();  // no decrease: keep backing off
+      }
+    }
+    result.history.back().step = step;
     result.assembly_seconds += seconds_since(start);
     if (!std::isfinite(energy) || !all_finite(trial_gradient)) {
       result.status = NewtonStatus::kNonFinite;  // keep the last good state

@@ -232,4 +232,91 @@ RestForms single_material_rest_forms(const std::vector<Eigen::Matrix2d>& a_bar,
   return out;
 }
 
+RestForms laminate(const LayerStack& stack, const LayerShrinkRates& rates,
+                   LaminateDerivative& derivative) {
+  const int num_faces = stack.num_faces();
+  const int num_layers = stack.num_layers();
+  bool sizes_match = static_cast<int>(rates.lambda1.size()) == num_layers &&
+                     static_cast<int>(rates.printed_thickness.size()) == num_layers;
+  for (int k = 0; sizes_match && k < num_layers; ++k) {
+    sizes_match =
+        rates.lambda1[k].size() == num_faces && rates.printed_thickness[k].size() == num_faces;
+  }
+  if (!sizes_match) {
+    throw std::invalid_argument(
+        fmt::format("shrink rates for {} and {} layers for a stack of {} layers of {} faces: give "
+                    "one rate per layer and face",
+                    rates.lambda1.size(), rates.printed_thickness.size(), num_layers, num_faces));
+  }
+  RestForms out = laminate(stack);
+  std::vector<Eigen::Matrix3d> elasticity;
+  for (const Material& m : stack.materials) {
+    elasticity.push_back(orthotropic_elasticity_tensor(stiffness_of(m)));
+  }
+  derivative.stiffness.resize(num_faces);
+  derivative.rest.resize(num_faces);
+  for (int f = 0; f < num_faces; ++f) {
+    // The integrals of laminate_impl differentiated by the chain rule: a layer's post-heating
+    // thickness τ = λ3 h moves with h, the face's thickness t = Σ τ with it, so every layer's
+    // mid-height (−t/2 + the layers below + τ/2) moves too; λ1 moves the rest metric along the
+    // path and the norm P0 = λ1 λ2 Nᵀ C N (N = diag(1/λ1², 1/λ2², 1/λ1² + 1/λ2²)).
+    double dt = 0;
+    for (int k = 0; k < num_layers; ++k) {
+      const Layer& l = stack.layers[k];
+      if (l.covers(f)) dt += l.lambda3(f) * rates.printed_thickness[k](f);
+    }
+    FaceIntegrals rate;
+    double bottom = -0.5 * out.thickness(f), d_bottom = -0.5 * dt;
+    for (int k = 0; k < num_layers; ++k) {
+      const Layer& l = stack.layers[k];
+      if (!l.covers(f)) continue;
+      const double tau = l.lambda3(f) * l.printed_thickness(f);
+      const double d_tau = l.lambda3(f) * rates.printed_thickness[k](f);
+      const double mid = bottom + 0.5 * tau, d_mid = d_bottom + 0.5 * d_tau;
+      bottom += tau;
+      d_bottom += d_tau;
+      const double lambda1 = l.lambda1(f), delta = l.delta_lambda1(f), lambda2 = l.lambda2(f);
+      const double d_lambda1 = rates.lambda1[k](f);
+      const double mean_square = lambda1 * lambda1 + delta * delta / 12.0;
+      const double along = tau * mean_square;
+      const double d_along = d_tau * mean_square + tau * 2 * lambda1 * d_lambda1;
+      const double along_moment = mid * along + lambda1 * delta * tau * tau / 6.0;
+      const double d_along_moment = d_mid * along + mid * d_along +
+                                    d_lambda1 * delta * tau * tau / 6.0 +
+                                    lambda1 * delta * tau * d_tau / 3.0;
+      const Eigen::Vector3d metric(along, tau * lambda2 * lambda2, 0);
+      const Eigen::Vector3d d_metric(d_along, d_tau * lambda2 * lambda2, 0);
+      const Eigen::Vector3d metric_moment(along_moment, mid * tau * lambda2 * lambda2, 0);
+      const Eigen::Vector3d d_metric_moment(d_along_moment,
+                                            (d_mid * tau + mid * d_tau) * lambda2 * lambda2, 0);
+      const Eigen::Matrix3d& c = elasticity[l.material(f)];
+      const Eigen::Matrix3d p0 = layer_frame_norm(lambda1, lambda2, c);
+      const double i1 = 1 / (lambda1 * lambda1), i2 = 1 / (lambda2 * lambda2);
+      const Eigen::Matrix3d n = Eigen::Vector3d(i1, i2, i1 + i2).asDiagonal();
+      const Eigen::Matrix3d dn =
+          Eigen::Vector3d(-2 * i1 / lambda1, 0, -2 * i1 / lambda1).asDiagonal();
+      const Eigen::Matrix3d d_p0 =
+          d_lambda1 * (p0 / lambda1 + lambda1 * lambda2 * (dn * c * n + n * c * dn));
+      const Eigen::Matrix3d to_layer = turn(-l.theta(f)), to_plate = turn(l.theta(f));
+      const Eigen::Matrix3d p = to_layer.transpose() * p0 * to_layer;
+      const Eigen::Matrix3d dp = to_layer.transpose() * d_p0 * to_layer;
+      const double depth = tau * mid * mid + tau * tau * tau / 12;
+      const double d_depth = d_tau * mid * mid + 2 * tau * mid * d_mid + tau * tau * d_tau / 4;
+      rate.a += d_tau * p + tau * dp;
+      rate.b += (d_tau * mid + tau * d_mid) * p + tau * mid * dp;
+      rate.d += d_depth * p + depth * dp;
+      rate.m_a += dp * (to_plate * metric) + p * (to_plate * d_metric);
+      rate.m_b += dp * (to_plate * metric_moment) + p * (to_plate * d_metric_moment);
+    }
+    const Matrix6d dk = block_stiffness(rate.a, rate.b, rate.d);
+    Vector6d dm;
+    dm << rate.m_a, -2 * rate.m_b;
+    const Vector6d rest =
+        rest_vector(out.rest_first_fundamental_form[f], out.rest_second_fundamental_form[f]);
+    derivative.stiffness[f] = dk;
+    derivative.rest[f] = Eigen::LLT<Matrix6d>(out.stiffness[f]).solve(dm - dk * rest);
+  }
+  return out;
+}
+
 }  // namespace flatmorph

@@ -94,4 +94,21 @@ RestForms single_material_rest_forms(const std::vector<Eigen::Matrix2d>& a_bar,
 // R(θ): the rotation of the plane by θ (radians, counter-clockwise).
 Eigen::Matrix2d rotation(double theta);
 
+// How the rest forms move when each face's layers change their shrink along the path and their
+// printed thickness with a parameter of the face's own, p_f (the thickness-controlled methods'
+// shrinkage σ, SCF 2020 §6: a face's σ sets both λ1 and the layer height h through the thickness
+// curve). Per layer k and face f: lambda1[k](f) = dλ1_k(f)/dp_f (the layer's mean λ1; its Δλ1
+// stays) and printed_thickness[k](f) = d printed_thickness_k(f)/dp_f (mm per unit of p); the
+// layer's post-heating thickness λ3 h and every layer's height in the face follow.
+struct LayerShrinkRates {
+  std::vector<Eigen::VectorXd> lambda1;
+  std::vector<Eigen::VectorXd> printed_thickness;
+};
+
+// laminate(stack), and per face its exact derivative dK_f/dp_f, ds̄_f/dp_f along `rates` (one
+// entry per layer, each with one value per face; a face a layer does not cover ignores it).
+// Throws std::invalid_argument when the rates do not match the stack's layers and faces.
+RestForms laminate(const LayerStack& stack, const LayerShrinkRates& rates,
+                   LaminateDerivative& derivative);
+
 }  // namespace flatmorph

@@ -56,11 +56,16 @@ Canvas plate_picture(const Eigen::MatrixXd& P, const Eigen::MatrixXi& F,
   };
   const bool theta2 = field == PlateField::kTheta2 && values.size() == P.rows();
   const double max_theta2 = theta2 ? std::max(1e-12, values.cwiseAbs().maxCoeff()) : 1.0;
+  const bool shrinkage = field == PlateField::kShrinkage && values.size() == F.rows();
+  const double max_shrinkage =
+      shrinkage && values.size() > 0 ? std::max(1e-12, values.maxCoeff()) : 1.0;
   for (Eigen::Index f = 0; f < F.rows(); ++f) {
     Eigen::Vector3d c[3];
     for (int k = 0; k < 3; ++k) {
       if (theta2) {
         c[k] = diverging_color(values[F(f, k)] / max_theta2);
+      } else if (shrinkage) {
+        c[k] = viridis(values[f] / max_shrinkage);
       } else {
         c[k] = cyclic_color(f < values.size() ? values[f] / std::numbers::pi : 0.0);
       }
@@ -70,7 +75,11 @@ Canvas plate_picture(const Eigen::MatrixXd& P, const Eigen::MatrixXi& F,
   Canvas small = downsampled(big, s);
   Canvas out(small.width, small.height + kBarHeight);
   std::copy(small.rgb.begin(), small.rgb.end(), out.rgb.begin());
-  if (theta2) {
+  if (shrinkage) {
+    colour_bar(
+        out, small.height, [](double t) { return viridis(t); }, "0 %",
+        label(50 * max_shrinkage) + " %", label(100 * max_shrinkage) + " %");
+  } else if (theta2) {
     const double deg = max_theta2 * 180 / std::numbers::pi;
     colour_bar(
         out, small.height, [](double t) { return diverging_color(2 * t - 1); }, label(-deg), "0",

@@ -12,10 +12,14 @@ namespace flatmorph {
 enum class PlateField {
   kTheta1,  // per face, cyclic colour map over 0..180 degrees (a line direction)
   kTheta2,  // per vertex, diverging map over -max|theta2|..+max|theta2|
+  // per face, sequential map from 0 to the largest value: the shrink σ along the path of the
+  // thickness-controlled methods (a fraction, labelled in %)
+  kShrinkage,
 };
 
 // The plate (#V x 2, mm) seen from above (+z, x right, y up), `pixels` wide, with a colour bar
-// below: coloured by `values`, per face for kTheta1 and per vertex for kTheta2 (rad).
+// below: coloured by `values`, per face for kTheta1 (rad) and kShrinkage, per vertex for kTheta2
+// (rad).
 Canvas plate_picture(const Eigen::MatrixXd& plate, const Eigen::MatrixXi& F,
                      const Eigen::VectorXd& values, PlateField field, int pixels = 800);
 

@@ -356,6 +356,10 @@ std::string report_html(const RunFolder& run) {
         theta2 && theta2->size() == p.plate.rows()) {
       plate["theta2"] = float32(*theta2);
     }
+    if (const Eigen::VectorXd* shrinkage = p.design_fields.find_face("shrinkage");
+        shrinkage && shrinkage->size() == p.F.rows()) {
+      plate["shrinkage"] = float32(*shrinkage);
+    }
     data["plate"] = std::move(plate);
   }
   if (run.target) data["target"] = mesh_json(run.target->mesh);
@@ -394,6 +398,12 @@ std::vector<std::filesystem::path> write_report_pictures(const RunFolder& run) {
       const auto path2 = run.dir / "plate_theta2.png";
       write_png(path2, encode_png(plate_picture(p.plate, p.F, *theta2, PlateField::kTheta2)));
       written.push_back(path2);
+    }
+    const Eigen::VectorXd* shrinkage = p.design_fields.find_face("shrinkage");
+    if (shrinkage && shrinkage->size() == p.F.rows()) {
+      const auto path3 = run.dir / "plate_shrinkage.png";
+      write_png(path3, encode_png(plate_picture(p.plate, p.F, *shrinkage, PlateField::kShrinkage)));
+      written.push_back(path3);
     }
   }
   if (run.simulated) {

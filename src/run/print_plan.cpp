@@ -14,19 +14,28 @@ namespace flatmorph {
 PrintPlan plan_print(const PlateDesign& design, const PrinterProfile& printer,
                      const PrintFilesOptions& options) {
   const auto start = std::chrono::steady_clock::now();
-  const Eigen::MatrixXd& plate = design.plate;
-  const Eigen::MatrixXi& F = design.F;
   LayerPathOptions path_options;
   path_options.spacing = options.spacing_mm > 0 ? options.spacing_mm : printer.nozzle_diameter;
   path_options.progress = options.progress;
+  LayerPaths paths = stack_layer_paths(design.plate, design.F, design.stack, path_options);
+  PrintPlan plan = plan_toolpath_print(std::move(paths), design.plate, design.F,
+                                       design.stack.materials, printer, options);
+  plan.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return plan;
+}
+
+PrintPlan plan_toolpath_print(LayerPaths paths, const Eigen::MatrixXd& plate,
+                              const Eigen::MatrixXi& F, const std::vector<Material>& materials,
+                              const PrinterProfile& printer, const PrintFilesOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
   PrintPlan plan;
-  plan.paths = stack_layer_paths(plate, F, design.stack, path_options);
+  plan.paths = std::move(paths);
   if (options.at_mm) plan.gcode_options.at = *options.at_mm;
   plan.gcode_options.skirt_loops = options.skirt_loops;
-  plan.gcode = make_gcode(plan.paths.toolpath, printer, design.stack.materials, plan.gcode_options);
+  plan.gcode = make_gcode(plan.paths.toolpath, printer, materials, plan.gcode_options);
   for (const std::vector<int>& loop : boundary_loops(F)) {
     Eigen::MatrixX2d outline(loop.size(), 2);
-    for (size_t i = 0; i < loop.size(); ++i) outline.row(i) = plate.row(loop[i]);
+    for (size_t i = 0; i < loop.size(); ++i) outline.row(i) = plate.row(loop[i]).head<2>();
     plan.outline.push_back(outline);
   }
   plan.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

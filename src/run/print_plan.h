@@ -37,6 +37,15 @@ struct PrintPlan {
 PrintPlan plan_print(const PlateDesign& design, const PrinterProfile& printer,
                      const PrintFilesOptions& options);
 
+// The G-code plan of a toolpath already traced (a method that traces its own paths, such as the
+// height fields' continuous paths): `paths.toolpath` printed with `materials` (tool i prints
+// materials[i]) on `printer`, placed as `options` says, the plate's outline (plate #V x 2, mm, F)
+// kept for the previews. `paths.layers` should hold one report per layer. Throws make_gcode's
+// UserErrors (a plate larger than the bed).
+PrintPlan plan_toolpath_print(LayerPaths paths, const Eigen::MatrixXd& plate,
+                              const Eigen::MatrixXi& F, const std::vector<Material>& materials,
+                              const PrinterProfile& printer, const PrintFilesOptions& options);
+
 // Writes dir/plate.gcode, dir/toolpath.json, dir/layers/layer_NNN.svg and dir/layers/overview.png.
 void write_print_files(const std::filesystem::path& dir, const PrintPlan& plan,
                        const PrinterProfile& printer, const LayerStack& stack);

@@ -82,6 +82,11 @@ void write_run_folder(const std::filesystem::path& dir, const RunOutputs& run,
       write_ply(tmp / "gcode_simulated.ply", *run.gcode_predicted, properties);
     }
     if (run.print) write_print_files(tmp, *run.print, *printer, run.plate.stack);
+    for (const RunFile& file : run.files) {
+      write_file_atomically(tmp / file.name, true, [&](std::ostream& out) {
+        out.write(file.bytes.data(), file.bytes.size());
+      });
+    }
     const std::string record = run_record(run).dump(2) + "\n";
     write_file_atomically(tmp / "design.json", false, [&](std::ostream& out) { out << record; });
     // Last, so that it shows every file above.

@@ -25,6 +25,12 @@ struct RunMetric {
   std::string unit;
 };
 
+// A file a method adds to its run folder as it is (e.g. the height fields' texture.png).
+struct RunFile {
+  std::string name;  // relative to the folder
+  std::string bytes;
+};
+
 struct RunOutputs {
   std::string method;                      // "shrink_morph", ...
   PlateDesign plate;                       // flat.ply + flat.stack.json
@@ -36,6 +42,7 @@ struct RunOutputs {
   std::optional<Mesh> gcode_predicted;
   Eigen::VectorXd gcode_predicted_deviation_mm;
   std::optional<PrintPlan> print;  // plate.gcode, toolpath.json, layers/ (none: no print)
+  std::vector<RunFile> files;      // the method's own files
   // design.json: every parameter as top-level keys, the method's own metrics object (the keys
   // the report and the paper's tables read), and the generic list of figures.
   nlohmann::ordered_json parameters;

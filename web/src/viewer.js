@@ -127,6 +127,7 @@ const plate = data.plate ? {
   faces: decode(data.plate.indices, Uint32Array),
   theta1: decode(data.plate.theta1, Float32Array),
   theta2: decode(data.plate.theta2, Float32Array),
+  shrinkage: decode(data.plate.shrinkage, Float32Array),
 } : null;
 
 function boundaryEdges(faces) {
@@ -160,8 +161,11 @@ function drawPlate() {
   if (!plate) return;
   const field = document.querySelector('input[name=plate-field]:checked').value;
   const useTheta2 = field === 'theta2' && plate.theta2;
+  const useShrinkage = field === 'shrinkage' && plate.shrinkage;
   let max2 = 0;
   if (plate.theta2) for (const t of plate.theta2) max2 = Math.max(max2, Math.abs(t));
+  let maxShrinkage = 0;
+  if (plate.shrinkage) for (const s of plate.shrinkage) maxShrinkage = Math.max(maxShrinkage, s);
   const T = plateTransform(plateBox, w, h);
   ctx.lineWidth = 0.7 / plateView.k;
   ctx.lineJoin = 'round';
@@ -169,7 +173,9 @@ function drawPlate() {
   for (let f = 0; f < F.length / 3; f++) {
     const a = F[3 * f], b = F[3 * f + 1], c = F[3 * f + 2];
     let color;
-    if (useTheta2) {
+    if (useShrinkage) {
+      color = css(viridis(maxShrinkage > 0 ? plate.shrinkage[f] / maxShrinkage : 0));
+    } else if (useTheta2) {
       const t = (plate.theta2[a] + plate.theta2[b] + plate.theta2[c]) / 3;
       color = css(diverging(max2 > 0 ? t / max2 : 0));
     } else {
@@ -186,7 +192,11 @@ function drawPlate() {
     ctx.stroke();
   }
   const el = document.getElementById('legend-plate');
-  if (useTheta2) {
+  if (useShrinkage) {
+    const pct = 100 * maxShrinkage;
+    legend(el, stops(viridis), ['0 %', `${fmt(pct / 2)} %`, `${fmt(pct)} %`],
+      'σ per face: how much the path shrinks along its direction in hot water (1 − risen / printed length)');
+  } else if (useTheta2) {
     const deg = (max2 * 180) / Math.PI;
     legend(el, stops((t) => diverging(2 * t - 1)), [`−${fmt(deg)}°`, '0°', `+${fmt(deg)}°`],
       `θ2 per vertex (layer k prints θ1 + ((k−1)/(n−1) − ½)·θ2; bed layer k = 1), max |θ2| = ${fmt(max2, 4)} rad`);
@@ -435,6 +445,8 @@ setupMetrics();
 setupLayers();
 if (!plate) message(document.getElementById('plate-canvas').parentElement, 'No flat.ply in the run folder.');
 if (!plate || !plate.theta2) document.getElementById('field-theta2').disabled = true;
+if (!plate || !plate.shrinkage) document.getElementById('field-shrinkage').disabled = true;
+else document.getElementById('field-shrinkage').checked = true;
 for (const radio of document.querySelectorAll('input[name=plate-field]')) radio.addEventListener('change', drawPlate);
 drawPlate();
 drawLayer();

@@ -1,0 +1,140 @@
+#include "methods/heightfield/design_height_field.h"
+
+#include <fmt/core.h>
+
+#include <chrono>
+#include <cmath>
+
+#include "common/error.h"
+#include "methods/heightfield/shrinkage_field.h"
+
+namespace flatmorph {
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// Per face, the mean of its corners' σ: what the optimization prints (optimize_shrinkage.h).
+Eigen::VectorXd corner_mean(const Eigen::MatrixXi& F, const Eigen::VectorXd& vertex_values) {
+  Eigen::VectorXd face_values(F.rows());
+  for (Eigen::Index f = 0; f < F.rows(); ++f) {
+    face_values(f) =
+        (vertex_values(F(f, 0)) + vertex_values(F(f, 1)) + vertex_values(F(f, 2))) / 3.0;
+  }
+  return face_values;
+}
+
+}  // namespace
+
+HeightFieldDesign design_height_field(const HeightField& field, const std::string& source,
+                                      const HeightFieldDesignOptions& options) {
+  const Material& material = options.material;
+  if (!material.thickness_curve) {
+    throw UserError(ErrorCategory::kOption,
+                    fmt::format("material {}: the height-field method prints each path at the "
+                                "layer height that shrinks it as designed, which needs a "
+                                "thickness curve; use --material pla-geodesy, or calibrate yours "
+                                "(flatmorph calibrate print --thickness-ramp, then calibrate fit)",
+                                material.name));
+  }
+  const auto start = std::chrono::steady_clock::now();
+  const ProgressCallback& progress = options.progress;
+  HeightFieldDesign design;
+
+  report_progress(progress, {"mesh", 0, 0, NAN, "isolines and gradient lines"});
+  auto t = std::chrono::steady_clock::now();
+  design.mesh = isoline_mesh(field, options.meshing, source);
+  design.times.meshing = seconds_since(t);
+  const IsolineMesh& mesh = design.mesh;
+
+  // The sheet is flattened for the growth the material has across the paths and for shrink from
+  // 0 (SCF 2020 §8: only a path that must grow is invalid, besides one above the maximum) to the
+  // most it gives; below the least shrink the curve reaches, paths print at that least one, and the
+  // simulated shape (and the optimization) answers for it.
+  SheetFlatteningOptions flattening = options.flattening;
+  flattening.min_shrinkage = 0.0;
+  flattening.max_shrinkage = reachable_shrinkage(*material.thickness_curve).second;
+  flattening.bridge_growth = material.lambda2;
+  if (!flattening.progress && progress) {
+    flattening.progress = [&](int step, double change, double max_height) {
+      report_progress(progress, {"flatten", step, flattening.max_steps, change,
+                                 fmt::format("height left {:.3g} mm", max_height)});
+    };
+  }
+  report_progress(progress, {"flatten", 0, 0, NAN, "local/global steps with relocations"});
+  t = std::chrono::steady_clock::now();
+  design.sheet = flatten_sheet(mesh, flattening);
+  design.times.flattening = seconds_since(t);
+  const Eigen::MatrixXd& plate = design.sheet.plate;
+
+  report_progress(progress,
+                  {"simulate", 0, 0, NAN, "the flattening's shrink, from the flat sheet"});
+  t = std::chrono::steady_clock::now();
+  design.flattened_vertex_shrinkage =
+      initial_vertex_shrinkage(mesh, plate, design.sheet.edge_shrinkage, material);
+  const Eigen::VectorXd direction = deposition_directions(mesh, plate);
+  design.flattened_plate = heightfield_plate(
+      plate, mesh.F, direction, corner_mean(mesh.F, design.flattened_vertex_shrinkage), material);
+  // The simulation from the target (other stable shapes) is run once, on the design printed.
+  RisePredictionOptions first_prediction = options.prediction;
+  first_prediction.from_target = options.prediction.from_target && !options.optimize;
+  design.flattened_prediction =
+      predict_rise(design.flattened_plate.design, mesh.V, first_prediction);
+  design.times.prediction = seconds_since(t);
+
+  design.vertex_shrinkage = design.flattened_vertex_shrinkage;
+  design.plate = design.flattened_plate;
+  design.prediction = design.flattened_prediction;
+  if (options.optimize) {
+    report_progress(progress, {"optimize shrink", 0, 0, NAN, "adjoint Gauss-Newton"});
+    t = std::chrono::steady_clock::now();
+    ShrinkageProblem problem;
+    problem.plate = plate;
+    problem.F = mesh.F;
+    problem.target = mesh.V;
+    problem.direction = direction;
+    problem.material = material;
+    // The equilibrium the flat sheet reaches: the optimization follows that branch.
+    problem.start = design.flattened_prediction.from_flat.V;
+    OptimizeShrinkageOptions optimization = options.optimization;
+    if (!optimization.progress && progress) {
+      optimization.progress = [&](const ShrinkageIteration& it) {
+        report_progress(progress, {"optimize shrink", it.iteration + 1, optimization.max_iterations,
+                                   it.objective, ""});
+      };
+    }
+    design.optimization =
+        optimize_shrinkage(problem, design.flattened_vertex_shrinkage, optimization);
+    design.times.optimization = seconds_since(t);
+    design.optimized = true;
+
+    // The judge: the printed stack simulated from the flat sheet again, as it will rise.
+    report_progress(progress, {"simulate", 0, 0, NAN, "the optimized shrink, from the flat sheet"});
+    t = std::chrono::steady_clock::now();
+    HeightFieldPlate optimized_plate =
+        heightfield_plate(plate, mesh.F, direction, design.optimization.face_shrinkage, material);
+    RisePrediction optimized_prediction =
+        predict_rise(optimized_plate.design, mesh.V, options.prediction);
+    design.times.final_prediction = seconds_since(t);
+    // Kept only when the sheet, risen from flat, comes closer than with the flattening's shrink:
+    // the optimizer follows one equilibrium, and a sheet that snaps to another one is no better.
+    if (optimized_prediction.distance.mean_mm <= design.flattened_prediction.distance.mean_mm) {
+      design.vertex_shrinkage = design.optimization.vertex_shrinkage;
+      design.plate = std::move(optimized_plate);
+      design.prediction = std::move(optimized_prediction);
+    }
+  }
+
+  if (options.paths) {
+    report_progress(progress, {"trajectories", 0, 0, NAN, "continuous paths along the isolines"});
+    t = std::chrono::steady_clock::now();
+    design.paths =
+        continuous_paths(mesh, plate, design.vertex_shrinkage, material, options.path_options);
+    design.times.paths = seconds_since(t);
+  }
+  design.times.total = seconds_since(start);
+  return design;
+}
+
+}  // namespace flatmorph
