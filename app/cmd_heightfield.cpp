@@ -46,6 +46,7 @@ struct HeightFieldCliOptions {
   int layers = 0;
   double path_width_mm = 0;
   bool optimize = true;
+  bool other_shapes = false;
   double dpi = 300;
   bool gcode = true;
   bool json = false;
@@ -198,6 +199,7 @@ int run_heightfield(const HeightFieldCliOptions& o, const GlobalOptions& global)
   options.meshing.level_spacing_mm = o.level_spacing_mm;
   options.meshing.upsample_length_mm = o.upsample_length_mm;
   options.optimize = o.optimize;
+  options.prediction.from_target = o.other_shapes;
   options.paths = o.gcode;
   options.path_options.path_width = o.path_width_mm > 0 ? o.path_width_mm : printer.nozzle_diameter;
   if (o.layers > 0) options.path_options.num_layers = o.layers;
@@ -275,7 +277,7 @@ int run_heightfield(const HeightFieldCliOptions& o, const GlobalOptions& global)
   m["faces"] = mesh.F.rows();
   m["levels"] = mesh.levels.size();
   m["loops"] = mesh.loops.size();
-  m["invalid_edge_pct_of_edges"] = design.sheet.invalid_edge_percent;
+  m["invalid_edges_pct"] = design.sheet.invalid_edge_percent;
   m["flipped_faces"] = design.sheet.flipped_faces;
   m["flatten_steps"] = design.sheet.steps;
   m["clamped_faces"] = design.plate.num_clamped();
@@ -287,8 +289,10 @@ int run_heightfield(const HeightFieldCliOptions& o, const GlobalOptions& global)
   m["dist_max_mm"] = p.distance.max_mm;
   m["rises_up"] = p.side > 0;
   m["rise_mm"] = p.rise_mm;
-  m["starts_agree"] = p.starts_agree;
-  m["starts_difference_pct"] = p.starts_difference_percent;
+  if (p.has_from_target) {
+    m["starts_agree"] = p.starts_agree;
+    m["starts_difference_pct"] = p.starts_difference_percent;
+  }
   m["sim_converged"] = p.from_flat.converged;
   if (design.optimized) {
     m["optim_iterations"] = design.optimization.iterations;
@@ -364,7 +368,7 @@ int run_heightfield(const HeightFieldCliOptions& o, const GlobalOptions& global)
     fmt::print(stderr, "flatmorph: warning: the rise simulation did not converge: {}\n",
                p.from_flat.warning);
   }
-  if (!p.starts_agree) {
+  if (p.has_from_target && !p.starts_agree) {
     fmt::print(stderr,
                "flatmorph: warning: the sheet has another stable shape {:.2f} % of the diagonal "
                "away (simulated from the target): it may rise into either\n",
@@ -377,12 +381,11 @@ int run_heightfield(const HeightFieldCliOptions& o, const GlobalOptions& global)
   }
   if (o.json) fmt::print("{}\n", record.dump(2));
   if (silent) return 0;
-  if (run.print) print_plan_summary(*run.print, printer);
+  if (run.print) print_gcode_summary(*run.print, printer);
   fmt::print(
-      "printing graph: {} levels, {} loops, {} faces; invalid edges {:.2f} % (outside the "
-      "{:.1f}-{:.1f} % shrink the material prints)\n",
+      "printing graph: {} levels, {} loops, {} faces; invalid edges {:.2f} % (paths that would "
+      "have to grow, or shrink more than the {:.1f} % the material gives)\n",
       mesh.levels.size(), mesh.loops.size(), mesh.F.rows(), design.sheet.invalid_edge_percent,
-      100 * reachable_shrinkage(*material.thickness_curve).first,
       100 * reachable_shrinkage(*material.thickness_curve).second);
   fmt::print(
       "risen shape: {:.3f} % / {:.3f} % (avg / max of the diagonal) from the target with the "
@@ -464,6 +467,10 @@ Command make_heightfield_command(CLI::App& app, const GlobalOptions& global) {
   sub->add_flag("!--no-optimize", o->optimize,
                 "Print the flattening's shrink as the paper does, without refining it against the "
                 "simulated shape");
+  sub->add_flag("--other-shapes", o->other_shapes,
+                "Also simulate the sheet from the target's shape and warn when it settles into "
+                "another stable shape than the one it rises to from flat (costs as much as the "
+                "prediction, or more)");
   sub->add_option("--dpi", o->dpi, "Resolution of texture.png (it prints at scale)")
       ->capture_default_str();
   sub->add_flag("!--no-gcode", o->gcode, "Skip the paths and the G-code");

@@ -41,6 +41,10 @@ void print_plan_summary(const PrintPlan& plan, const PrinterProfile& printer) {
       "s, ordering {:.2f} s\n",
       paths.timings.refinement, paths.timings.fields, paths.timings.eigenvector,
       paths.timings.extraction, paths.timings.ordering);
+  print_gcode_summary(plan, printer);
+}
+
+void print_gcode_summary(const PrintPlan& plan, const PrinterProfile& printer) {
   fmt::print("printer: {} ({}); plate placed at bed = plate + ({:.3f}, {:.3f}) mm\n", printer.name,
              describe_bed(printer), plan.gcode.plate_to_bed.x(), plan.gcode.plate_to_bed.y());
   fmt::print("estimated print time {}, filament {:.2f} m ({:.1f} g)\n",

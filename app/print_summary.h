@@ -9,4 +9,8 @@ namespace flatmorph::cli {
 
 void print_plan_summary(const PrintPlan& plan, const PrinterProfile& printer);
 
+// Its last lines, for any print: the printer, where the plate sits on the bed, the estimated print
+// time and the filament.
+void print_gcode_summary(const PrintPlan& plan, const PrinterProfile& printer);
+
 }  // namespace flatmorph::cli

@@ -29,7 +29,7 @@ TEST(CliHeightField, WritesTheRunFolderAndAGcodeThatPassesTheCheck) {
   const nlohmann::json j = nlohmann::json::parse(in);
   EXPECT_EQ(j.at("method"), "heightfield");
   const nlohmann::json& m = j.at("metrics");
-  EXPECT_LE(m.at("invalid_edge_pct_of_edges").get<double>(), 5.0);
+  EXPECT_LE(m.at("invalid_edges_pct").get<double>(), 5.0);
   EXPECT_LT(m.at("dist_avg_pct").get<double>(), 2.0);
   EXPECT_GT(m.at("print_time_s").get<double>(), 0.0);
   EXPECT_EQ(m.at("traces").get<int>(), 1);

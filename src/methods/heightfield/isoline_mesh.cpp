@@ -48,6 +48,8 @@ constexpr double kSummitGap = 0.75;        // a summit more than 3/4 Δ above it
 constexpr double kLevelClearance = 0.25;   // an extra level at least Δ/4 from every other
 constexpr double kTopClearance = 0.125;    // no level within Δ/8 below a significant peak
 constexpr long long kMaxVertices = 5'000'000;
+constexpr double kMinEdgeFraction = 0.25;  // loop vertices at least l_u / 4 apart...
+constexpr double kMinLoopPieces = 16.0;    // ...or a sixteenth of a small loop's perimeter
 
 double cross2(const Vector2d& a, const Vector2d& b) { return a.x() * b.y() - a.y() * b.x(); }
 
@@ -1396,6 +1398,13 @@ IsolineMesh isoline_mesh(const HeightField& field, const IsolineMeshOptions& opt
 
   // 4. The loops' vertices: the anchors (close ones merged), the boundary's own vertices, and
   //    enough between them that no printing edge is longer than l_u.
+  // No two consecutive vertices of a loop closer than l_u / 4 (a sixteenth of a small loop): a
+  // shorter printing edge is the base of a needle triangle, which the sheet's simulation cannot
+  // settle. Anchors that close join one vertex (their gradient lines move by at most that much).
+  std::vector<double> min_gap(loops.size());
+  for (size_t id = 0; id < loops.size(); ++id) {
+    min_gap[id] = std::min(kMinEdgeFraction * l_u, loops[id].perimeter() / kMinLoopPieces);
+  }
   Builder b;
   b.surface = &s;
   {
@@ -1416,6 +1425,56 @@ IsolineMesh isoline_mesh(const HeightField& field, const IsolineMeshOptions& opt
       }
     }
     const double merge = 0.02 * std::min(l_u, gap_spacing);
+    using Group = std::pair<double, std::vector<Mark*>>;  // a vertex's arc length, its marks
+    const auto is_fixed = [](const Group& g) {
+      return std::any_of(g.second.begin(), g.second.end(), [](const Mark* m) { return m->fixed; });
+    };
+    // Joins the groups (sorted along a loop of perimeter `per`) closer than `least` apart: first
+    // into the nearest input boundary vertex (which stays), then each into the one before it,
+    // whose place the joined vertex takes, so that the vertices kept are `least` apart (input
+    // boundary vertices closer than that to each other stay as they are).
+    const auto space_groups = [&](std::vector<Group>& groups, double per, double least) {
+      std::vector<int> fixed;
+      for (int g = 0; g < static_cast<int>(groups.size()); ++g) {
+        if (is_fixed(groups[g])) fixed.push_back(g);
+      }
+      std::vector<Group> kept;
+      if (!fixed.empty()) {
+        std::vector<int> into(groups.size(), -1);
+        const int nf = static_cast<int>(fixed.size());
+        for (int g = 0, next = 0; g < static_cast<int>(groups.size()); ++g) {
+          while (next < nf && fixed[next] < g) ++next;
+          if (next < nf && fixed[next] == g) continue;
+          const int after = fixed[next % nf], before = fixed[(next + nf - 1) % nf];
+          const double d_after = wrap(groups[after].first - groups[g].first, per);
+          const double d_before = wrap(groups[g].first - groups[before].first, per);
+          if (std::min(d_after, d_before) < least) into[g] = d_after < d_before ? after : before;
+        }
+        for (int g = 0; g < static_cast<int>(groups.size()); ++g) {
+          if (into[g] < 0) continue;
+          for (Mark* mark : groups[g].second) groups[into[g]].second.push_back(mark);
+        }
+        for (int g = 0; g < static_cast<int>(groups.size()); ++g) {
+          if (into[g] < 0) kept.push_back(std::move(groups[g]));
+        }
+        groups = std::move(kept);
+        kept.clear();
+      }
+      for (Group& g : groups) {
+        if (!kept.empty() && !is_fixed(g) && !is_fixed(kept.back()) &&
+            g.first - kept.back().first < least) {
+          for (Mark* mark : g.second) kept.back().second.push_back(mark);
+        } else {
+          kept.push_back(std::move(g));
+        }
+      }
+      if (kept.size() > 1 && !is_fixed(kept.front()) && !is_fixed(kept.back()) &&
+          kept.front().first + per - kept.back().first < least) {
+        for (Mark* mark : kept.back().second) kept.front().second.push_back(mark);
+        kept.pop_back();
+      }
+      groups = std::move(kept);
+    };
     // Per loop segment: the room to the next loops, about the height to the nearer neighbouring
     // level over the slope there.
     std::vector<std::vector<double>> room(loops.size());
@@ -1439,7 +1498,7 @@ IsolineMesh isoline_mesh(const HeightField& field, const IsolineMeshOptions& opt
       });
       if (m.empty()) m.push_back({0.0, false, nullptr, false});
       // Groups of marks closer than `merge`, each one vertex (at a fixed mark if it has one).
-      std::vector<std::pair<double, std::vector<Mark*>>> groups;
+      std::vector<Group> groups;
       for (Mark& mark : m) {
         if (!groups.empty() && mark.s - groups.back().second.front()->s < merge &&
             !(mark.fixed && groups.back().second.front()->fixed)) {
@@ -1455,6 +1514,7 @@ IsolineMesh isoline_mesh(const HeightField& field, const IsolineMeshOptions& opt
         for (Mark* mark : groups.back().second) groups.front().second.push_back(mark);
         groups.pop_back();
       }
+      space_groups(groups, per, min_gap[id]);
       const double z = heights[loop.level];
       const auto vertex_at = [&](double sv) {
         const LoopPoint lp = point_at(loop, sv);
@@ -1491,7 +1551,7 @@ IsolineMesh isoline_mesh(const HeightField& field, const IsolineMeshOptions& opt
           todo.pop_back();
           double deviation = 0.0, least_room = 0.0;
           if (id > 0) chord_fit(loop, room[id], sa, sb, deviation, least_room);
-          if (id > 0 && deviation > 0.25 * least_room && sb - sa > 1e-3 * l_u) {
+          if (id > 0 && deviation > 0.25 * least_room && sb - sa >= 2.0 * min_gap[id]) {
             const double mid = 0.5 * (sa + sb);
             todo.push_back({mid, sb});
             todo.push_back({sa, mid});
@@ -1731,7 +1791,7 @@ IsolineMesh isoline_mesh(const HeightField& field, const IsolineMeshOptions& opt
             position = (position + 1) % mp;
           }
           const int next = (position + 1) % mp;
-          const double merge_eps = 0.02 * std::min(l_u, gap_spacing);
+          const double merge_eps = min_gap[annulus.parent];
           int vertex = -1;
           if (along - wrap(b.param[pv[position]] - from, per) < merge_eps) {
             vertex = pv[position];

@@ -165,7 +165,9 @@ RisePrediction predict_rise(const PlateDesign& design, const Eigen::MatrixXd& ta
   out.distance = shape_distance(out.aligned, target);
   if (options.from_target) {
     out.has_from_target = true;
-    out.from_target = simulate(problem, target, options.simulation);
+    SimulationOptions check = options.simulation;
+    check.max_iterations = options.from_target_max_iterations;
+    out.from_target = simulate(problem, target, check);
     out.from_target_distance = shape_distance(rigidly_aligned(out.from_target.V, target), target);
     const Eigen::MatrixXd other = rigidly_aligned(out.from_target.V, out.aligned);
     const ShapeDistance difference = shape_distance(other, out.aligned);

@@ -289,6 +289,36 @@ TEST_P(Examples, RotatingTheFieldRotatesTheMesh) {
   EXPECT_EQ(children_count(a), children_count(b));
 }
 
+// No needle bases: consecutive vertices along a loop are at least l_u / 4 apart along the
+// isoline (a sixteenth of a loop shorter than 4 l_u), so a chord is at least l_u / 5 (its polygon
+// at least 1/20 of its perimeter) unless the isoline bends by more than ~70 degrees within l_u / 4;
+// the examples' input boundary vertices are about 2 mm apart. The saddle chains' printing edges
+// (not bound by construction: a chain joins two anchors of different children) are checked against
+// l_u / 5 as well.
+TEST_P(Examples, PrintingEdgesAreNotNeedles) {
+  const HeightField field = height_field_example(GetParam());
+  const IsolineMeshOptions options;
+  const double l_u = options.upsample_length_mm;
+  const IsolineMesh m = isoline_mesh(field, options, GetParam());
+  for (size_t id = 0; id < m.loops.size(); ++id) {
+    const std::vector<int>& loop = m.loops[id].vertices;
+    const int n = static_cast<int>(loop.size());
+    double perimeter = 0.0;
+    for (int i = 0; i < n; ++i) perimeter += (m.V.row(loop[i]) - m.V.row(loop[(i + 1) % n])).norm();
+    const double least = std::min(l_u / 5.0, perimeter / 20.0);
+    for (int i = 0; i < n; ++i) {
+      const double length = (m.V.row(loop[i]) - m.V.row(loop[(i + 1) % n])).norm();
+      EXPECT_GE(length, least) << "loop " << id << " at " << m.V.row(loop[i]);
+    }
+  }
+  for (int e = 0; e < m.E.rows(); ++e) {
+    const bool chain = m.vertex_loop[m.E(e, 0)] < 0 || m.vertex_loop[m.E(e, 1)] < 0;
+    if (m.edge_kind[e] == EdgeKind::kBridge || !chain) continue;
+    EXPECT_GE((m.V.row(m.E(e, 0)) - m.V.row(m.E(e, 1))).norm(), l_u / 5.0)
+        << "edge at " << m.V.row(m.E(e, 0));
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(IsolineMesh, Examples,
                          ::testing::Values("hill", "saddle", "island", "ridge"));
 

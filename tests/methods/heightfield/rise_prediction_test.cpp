@@ -165,6 +165,7 @@ TEST(PredictRise, TheCapsPlateRisesToTheCapTowardPlusZ) {
       heightfield_plate(cap.mesh, cap.plate, cap.edge_shrinkage, cap_material());
   RisePredictionOptions options;
   options.simulation = tight();
+  options.from_target = true;
   const RisePrediction rise = predict_rise(printed.design, cap.mesh.V, options);
   ASSERT_TRUE(rise.from_flat.converged) << rise.from_flat.warning;
   EXPECT_EQ(rise.side, 1);

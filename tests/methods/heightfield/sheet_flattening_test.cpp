@@ -480,16 +480,18 @@ TEST_P(SheetFlatteningExample, FlattensTheBuiltInHeightField) {
 
 INSTANTIATE_TEST_SUITE_P(BuiltIn, SheetFlatteningExample,
                          ::testing::Values(ExampleCase{"hill", 0.5}, ExampleCase{"saddle", 5.0},
-                                           ExampleCase{"island", 12.0}, ExampleCase{"ridge", 1.0}),
+                                           ExampleCase{"island", 5.0}, ExampleCase{"ridge", 1.0}),
                          [](const auto& info) { return info.param.name; });
 
 // The paper's spreading relocation (0.5) pushes every vertex downhill by about its edge length a
 // step, whatever its neighbours do; on the built-in ridge the sheet does not recover from it.
 TEST(SheetFlattening, PaperSpreadingSpoilsTheRidge) {
   const IsolineMesh m = isoline_mesh(height_field_example("ridge"), {}, "ridge");
+  const double without = flatten_sheet(m, {}).invalid_edge_percent;
   SheetFlatteningOptions options;
   options.spreading = 0.5;
-  EXPECT_GT(flatten_sheet(m, options).invalid_edge_percent, 3.0);
+  const double with_spreading = flatten_sheet(m, options).invalid_edge_percent;
+  EXPECT_GT(with_spreading, 2 * without + 0.5) << without;
 }
 
 }  // namespace
