@@ -288,6 +288,18 @@ std::string material_json(const Material& m) {
   return j.dump(2) + "\n";
 }
 
+const ThicknessCurve& require_thickness_curve(const Material& material) {
+  if (!material.thickness_curve) {
+    throw UserError(ErrorCategory::kOption,
+                    fmt::format("material \"{}\" has no thickness curve, which turns each path's "
+                                "shrinkage into a layer height: give a material with a thickness "
+                                "curve, e.g. pla-geodesy, or calibrate one ('flatmorph calibrate "
+                                "print --thickness-ramp', then 'flatmorph calibrate fit')",
+                                material.name));
+  }
+  return *material.thickness_curve;
+}
+
 double printed_lambda1(const Material& m, double layer_height_mm, double print_speed_mm_s) {
   double lambda1 = m.lambda1;
   if (m.thickness_curve) {

@@ -67,6 +67,11 @@ struct Material {
 // G-code without F) counts as material.print_speed.
 double printed_lambda1(const Material& material, double layer_height_mm, double print_speed_mm_s);
 
+// The material's thickness curve, which the thickness-controlled methods (SCF 2020 height fields,
+// Geodesy) need to turn each path's shrink into a layer height. Throws UserError (kOption) naming
+// the material and how to get a curve when it has none.
+const ThicknessCurve& require_thickness_curve(const Material& material);
+
 // Names of the built-in materials, in a fixed order.
 std::vector<std::string> material_preset_names();
 

@@ -139,15 +139,7 @@ ThicknessControlledStack thickness_controlled_layer_stack(const Eigen::VectorXd&
         fmt::format("direction has {} faces but shrinkage has {}: give one value per face for both",
                     direction.size(), shrinkage.size()));
   }
-  if (!material.thickness_curve) {
-    throw UserError(ErrorCategory::kOption,
-                    fmt::format("material \"{}\" has no thickness curve, which turns each path's "
-                                "shrinkage into a layer height: give a material with a thickness "
-                                "curve, e.g. pla-geodesy, or calibrate one ('flatmorph calibrate "
-                                "print --thickness-ramp', then 'flatmorph calibrate fit')",
-                                material.name));
-  }
-  const ThicknessCurve& curve = *material.thickness_curve;
+  const ThicknessCurve& curve = require_thickness_curve(material);
   const int n = num_layers.value_or(curve.layers);
   if (n < 1) {
     throw UserError(ErrorCategory::kOption,

@@ -422,15 +422,7 @@ ContinuousPaths continuous_paths(const IsolineMesh& mesh, const Eigen::MatrixXd&
                                  const Eigen::VectorXd& vertex_sigma, const Material& material,
                                  const ContinuousPathOptions& options) {
   // --- Options and sizes.
-  if (!material.thickness_curve) {
-    throw UserError(ErrorCategory::kOption,
-                    fmt::format("material \"{}\" has no thickness curve, which turns each path's "
-                                "shrinkage into a layer height: give a material with a thickness "
-                                "curve, e.g. pla-geodesy, or calibrate one ('flatmorph calibrate "
-                                "print --thickness-ramp', then 'flatmorph calibrate fit')",
-                                material.name));
-  }
-  const ThicknessCurve& curve = *material.thickness_curve;
+  const ThicknessCurve& curve = require_thickness_curve(material);
   const double g = options.path_width;
   if (!(g > 0) || !std::isfinite(g)) {
     throw UserError(ErrorCategory::kOption,

@@ -30,14 +30,7 @@ Eigen::VectorXd corner_mean(const Eigen::MatrixXi& F, const Eigen::VectorXd& ver
 HeightFieldDesign design_height_field(const HeightField& field, const std::string& source,
                                       const HeightFieldDesignOptions& options) {
   const Material& material = options.material;
-  if (!material.thickness_curve) {
-    throw UserError(ErrorCategory::kOption,
-                    fmt::format("material {}: the height-field method prints each path at the "
-                                "layer height that shrinks it as designed, which needs a "
-                                "thickness curve; use --material pla-geodesy, or calibrate yours "
-                                "(flatmorph calibrate print --thickness-ramp, then calibrate fit)",
-                                material.name));
-  }
+  const ThicknessCurve& curve = require_thickness_curve(material);
   const auto start = std::chrono::steady_clock::now();
   const ProgressCallback& progress = options.progress;
   HeightFieldDesign design;
@@ -54,7 +47,7 @@ HeightFieldDesign design_height_field(const HeightField& field, const std::strin
   // simulated shape (and the optimization) answers for it.
   SheetFlatteningOptions flattening = options.flattening;
   flattening.min_shrinkage = 0.0;
-  flattening.max_shrinkage = reachable_shrinkage(*material.thickness_curve).second;
+  flattening.max_shrinkage = reachable_shrinkage(curve).second;
   flattening.bridge_growth = material.lambda2;
   if (!flattening.progress && progress) {
     flattening.progress = [&](int step, double change, double max_height) {

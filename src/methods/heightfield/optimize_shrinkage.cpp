@@ -23,17 +23,6 @@
 namespace flatmorph {
 namespace {
 
-const ThicknessCurve& require_curve(const Material& material) {
-  if (!material.thickness_curve) {
-    throw UserError(ErrorCategory::kOption,
-                    fmt::format("material \"{}\" has no thickness curve, which turns each path's "
-                                "shrinkage into a layer height: give a material with a thickness "
-                                "curve, e.g. pla-geodesy",
-                                material.name));
-  }
-  return *material.thickness_curve;
-}
-
 // dλ1/dh of the curve (1/mm) at layer height h (mm).
 double curve_slope(const ThicknessCurve& curve, double h) {
   double slope = 0, power = 1;
@@ -81,7 +70,7 @@ RigidFit weighted_rigid_fit(const Eigen::VectorXd& x, const Eigen::VectorXd& y,
 class ShrinkageSolver {
  public:
   ShrinkageSolver(const ShrinkageProblem& problem, const OptimizeShrinkageOptions& options)
-      : options_(options), problem_(&problem), curve_(require_curve(problem.material)) {
+      : options_(options), problem_(&problem), curve_(require_thickness_curve(problem.material)) {
     const int nv = static_cast<int>(problem.plate.rows());
     const int nf = static_cast<int>(problem.F.rows());
     if (problem.target.rows() != nv || problem.target.cols() != 3 ||
@@ -358,7 +347,7 @@ int count_at_bound(const Eigen::VectorXd& sigma, double least, double most) {
 Eigen::VectorXd initial_vertex_shrinkage(const IsolineMesh& mesh, const Eigen::MatrixXd& plate,
                                          const Eigen::VectorXd& edge_shrinkage,
                                          const Material& material) {
-  const auto [least, most] = reachable_shrinkage(require_curve(material));
+  const auto [least, most] = reachable_shrinkage(require_thickness_curve(material));
   return vertex_shrinkage(mesh, plate, edge_shrinkage).cwiseMax(least).cwiseMin(most);
 }
 

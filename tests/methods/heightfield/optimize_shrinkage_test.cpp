@@ -16,19 +16,11 @@
 namespace flatmorph {
 namespace {
 
+using testing::cap_material;
 using testing::cap_printing_graph;
 using testing::CapPrintingGraph;
-
-constexpr double kCapAngle = 0.6;
-const double kCapRadius = 60.0 / std::sin(kCapAngle);
-
-// pla-geodesy with λ2 = 0.85, for which the cap's σ(φ) = 1 − λ2 sin φ / φ lies in the curve's
-// range (15 % to 20 %; see rise_prediction_test.cpp).
-Material cap_material() {
-  Material m = load_material("pla-geodesy");
-  m.lambda2 = 0.85;
-  return m;
-}
+using testing::kCapAngle;
+using testing::kCapRadius;
 
 ShrinkageProblem cap_problem(const CapPrintingGraph& cap, const Material& material) {
   ShrinkageProblem problem;

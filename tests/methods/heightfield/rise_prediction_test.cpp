@@ -16,22 +16,11 @@
 namespace flatmorph {
 namespace {
 
+using testing::cap_material;
 using testing::cap_printing_graph;
 using testing::CapPrintingGraph;
-
-// The cap of the brief: 120 mm across (R sin φ0 = 60 mm), φ0 = 0.6 rad.
-constexpr double kCapAngle = 0.6;
-const double kCapRadius = 60.0 / std::sin(kCapAngle);
-
-// pla-geodesy grows 8 % across the paths (λ2 = 1.08), so a ring near the pole would have to grow
-// (σ(φ) = 1 − λ2 sin φ / φ < 0 for every φ < 0.68 rad): no cap is printable with radial bridges.
-// The tests take the same material with λ2 = 0.85, for which the cap asks σ from 1 − λ2 = 15 % at
-// the pole to 1 − λ2 sin φ0 / φ0 = 20.0 % at the rim, inside the curve's 7.9 % to 37.3 %.
-Material cap_material() {
-  Material m = load_material("pla-geodesy");
-  m.lambda2 = 0.85;
-  return m;
-}
+using testing::kCapAngle;
+using testing::kCapRadius;
 
 CapPrintingGraph test_cap(double lambda2 = 0.85) {
   return cap_printing_graph(kCapRadius, kCapAngle, 8, 7.0, lambda2);
