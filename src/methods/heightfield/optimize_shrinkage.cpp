@@ -411,6 +411,7 @@ ShrinkageResult optimize_shrinkage(const ShrinkageProblem& problem,
         initial.warning.empty() ? std::string(to_string(initial.status)) : initial.warning);
   }
   double trust_radius = options.max_step;
+  int forward_iterations = 0;  // of the line searches, against options.max_forward_iterations
   for (int iteration = 0; out.initial_forward_converged && iteration < options.max_iterations;
        ++iteration) {
     ShrinkageIteration record;
@@ -469,13 +470,15 @@ ShrinkageResult optimize_shrinkage(const ShrinkageProblem& problem,
     const double direction_max = direction.cwiseAbs().maxCoeff();
     double step = std::min(1.0, trust_radius / direction_max);
     bool accepted = false;
-    for (int k = 0; k < options.max_line_search_steps && step * direction_max >= options.min_step;
+    for (int k = 0; k < options.max_line_search_steps && step * direction_max >= options.min_step &&
+                    forward_iterations < options.max_forward_iterations;
          ++k, step *= 0.5) {
       const Eigen::VectorXd trial_sigma = solver.project(sigma + step * direction);
       // Warm start at the linear prediction x + s S Δσ.
       const NewtonResult trial = solver.forward(trial_sigma, x + step * dx, true);
       ++record.line_search_trials;
       record.forward_iterations += trial.iterations;
+      forward_iterations += trial.iterations;
       if (!forward_ok(trial)) continue;
       const Eigen::Vector2d trial_terms = solver.objective_terms(trial.x, trial_sigma);
       if (trial_terms.sum() <= objective + options.armijo_constant * g.dot(trial_sigma - sigma)) {
@@ -490,7 +493,11 @@ ShrinkageResult optimize_shrinkage(const ShrinkageProblem& problem,
     record.step = accepted ? step : 0;
     if (!accepted) {
       finish(false,
-             step * direction_max < options.min_step
+             forward_iterations >= options.max_forward_iterations
+                 ? fmt::format("the budget of {} Newton iterations of forward solves ran out in "
+                               "a line search; the best shrinkage found is used",
+                               options.max_forward_iterations)
+             : step * direction_max < options.min_step
                  ? fmt::format("stalled: every step changing σ by more than {:g} left the "
                                "equilibrium branch or moved away from the target; the best "
                                "shrinkage found is used",
@@ -512,11 +519,11 @@ ShrinkageResult optimize_shrinkage(const ShrinkageProblem& problem,
       out.stop_reason = "relative decrease below tolerance";
       break;
     }
-    if (options.time_budget_seconds > 0 && seconds_since(t0) > options.time_budget_seconds) {
+    if (forward_iterations >= options.max_forward_iterations) {
       out.stop_reason = fmt::format(
-          "stopped at the time budget of {:g} s while still improving; the best shrinkage found "
-          "is used",
-          options.time_budget_seconds);
+          "stopped after {} Newton iterations of forward solves (the budget) while still "
+          "improving; the best shrinkage found is used",
+          forward_iterations);
       break;
     }
   }

@@ -183,6 +183,7 @@ TEST(OptimizeShrinkage, BringsAUniformShrinkToTheCap) {
   const Eigen::VectorXd uniform = Eigen::VectorXd::Constant(nv, 0.1);
   OptimizeShrinkageOptions options;
   options.max_iterations = 100;
+  options.max_forward_iterations = 1000;
   int calls = 0;
   options.progress = [&calls](const ShrinkageIteration&) { ++calls; };
   const ShrinkageResult result = optimize_shrinkage(problem, uniform, options);
@@ -206,6 +207,26 @@ TEST(OptimizeShrinkage, BringsAUniformShrinkToTheCap) {
   const Eigen::VectorXd exact_sigma =
       initial_vertex_shrinkage(cap.mesh, cap.plate, cap.edge_shrinkage, material);
   EXPECT_GT(result.vertex_shrinkage.mean(), exact_sigma.mean());
+}
+
+// The work budget bounds the line searches' Newton iterations, whatever the iteration limit.
+TEST(OptimizeShrinkage, StopsAtTheBudgetOfForwardIterations) {
+  const CapPrintingGraph cap = cap_printing_graph(kCapRadius, kCapAngle, 6, 10.0, 0.85);
+  const Material material = cap_material();
+  const ShrinkageProblem problem = cap_problem(cap, material);
+  const Eigen::VectorXd uniform = Eigen::VectorXd::Constant(cap.plate.rows(), 0.1);
+  OptimizeShrinkageOptions options;
+  options.max_iterations = 100;
+  options.max_forward_iterations = 8;
+  const ShrinkageResult result = optimize_shrinkage(problem, uniform, options);
+  int spent = 0;
+  for (const ShrinkageIteration& it : result.history) spent += it.forward_iterations;
+  EXPECT_GE(spent, options.max_forward_iterations);
+  // The last trial may overrun it by at most its own iterations.
+  EXPECT_LT(spent, options.max_forward_iterations + options.max_trial_forward_iterations);
+  EXPECT_NE(result.stop_reason.find("budget"), std::string::npos) << result.stop_reason;
+  EXPECT_FALSE(result.converged);
+  EXPECT_LT(result.objective, result.initial_objective);
 }
 
 TEST(OptimizeShrinkage, StartsFromTheExactFlatteningAndImprovesOnIt) {
