@@ -213,19 +213,7 @@ int run_heightfield(const HeightFieldCliOptions& o, const GlobalOptions& global)
   std::optional<ClosedLoop> loop;
   double loop_seconds = 0;
   if (o.gcode) {
-    LayerPaths paths;
-    paths.toolpath = design.paths.toolpath;
-    int k = 1;
-    for (const ToolpathLayer& layer : paths.toolpath.layers) {
-      LayerPathReport report;
-      report.layer = k++;
-      report.z = layer.z;
-      report.paths = design.paths.num_traces;
-      report.extrusion_mm = extrusion_length(layer);
-      report.travel_mm = travel_length(layer);
-      report.travel_greedy_mm = report.travel_mm;
-      paths.layers.push_back(report);
-    }
+    LayerPaths paths = traced_layer_paths(design.paths.toolpath);
     PrintFilesOptions print_options;
     plan = plan_toolpath_print(std::move(paths), plate.plate, plate.F, plate.stack.materials,
                                printer, print_options);

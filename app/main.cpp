@@ -79,7 +79,7 @@ int main(int argc, char** argv) {
       cli::make_check_command(app, global),    cli::make_flatten_command(app, global),
       cli::make_simulate_command(app, global), cli::make_toolpaths_command(app, global),
       cli::make_design_command(app, global),   cli::make_heightfield_command(app, global),
-      cli::make_calibrate_command(app, global),
+      cli::make_tiles_command(app, global),    cli::make_calibrate_command(app, global),
       cli::make_report_command(app, global),   cli::make_view_command(app, global),
   };
 

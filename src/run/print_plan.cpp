@@ -24,6 +24,23 @@ PrintPlan plan_print(const PlateDesign& design, const PrinterProfile& printer,
   return plan;
 }
 
+LayerPaths traced_layer_paths(Toolpath toolpath) {
+  LayerPaths paths;
+  paths.toolpath = std::move(toolpath);
+  int k = 1;
+  for (const ToolpathLayer& layer : paths.toolpath.layers) {
+    LayerPathReport report;
+    report.layer = k++;
+    report.z = layer.z;
+    report.paths = static_cast<int>(layer.paths.size());
+    report.extrusion_mm = extrusion_length(layer);
+    report.travel_mm = travel_length(layer);
+    report.travel_greedy_mm = report.travel_mm;
+    paths.layers.push_back(report);
+  }
+  return paths;
+}
+
 PrintPlan plan_toolpath_print(LayerPaths paths, const Eigen::MatrixXd& plate,
                               const Eigen::MatrixXi& F, const std::vector<Material>& materials,
                               const PrinterProfile& printer, const PrintFilesOptions& options) {

@@ -37,6 +37,10 @@ struct PrintPlan {
 PrintPlan plan_print(const PlateDesign& design, const PrinterProfile& printer,
                      const PrintFilesOptions& options);
 
+// A toolpath a method traced itself (the height fields' continuous paths, the tiles' rings) with
+// one report per layer: its z, number of paths, printed and travel lengths.
+LayerPaths traced_layer_paths(Toolpath toolpath);
+
 // The G-code plan of a toolpath already traced (a method that traces its own paths, such as the
 // height fields' continuous paths): `paths.toolpath` printed with `materials` (tool i prints
 // materials[i]) on `printer`, placed as `options` says, the plate's outline (plate #V x 2, mm, F)

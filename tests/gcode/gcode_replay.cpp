@@ -90,7 +90,7 @@ ReadGcode read_gcode(const std::string& text, double cx, double cy) {
     if (c == "G0" || c == "G1") {
       const double nx = word(words, 'X'), ny = word(words, 'Y'), nz = word(words, 'Z');
       if (!std::isnan(word(words, 'F'))) feed = word(words, 'F');
-      const double ox = x, oy = y;
+      const double ox = x, oy = y, oz = z;
       if (!std::isnan(nx)) x = relative_xyz ? x + nx : nx;
       if (!std::isnan(ny)) y = relative_xyz ? y + ny : ny;
       if (!std::isnan(nz)) z = relative_xyz ? z + nz : nz;
@@ -133,7 +133,7 @@ ReadGcode read_gcode(const std::string& text, double cx, double cy) {
       const auto target = nozzle.find(tool);
       r.layers.back().extrusions.push_back({ox, oy, x, y, z, de, type, width, height, tool,
                                             target == nozzle.end() ? -1 : target->second,
-                                            last_target, feed});
+                                            last_target, feed, oz});
       ++extrusions;
     } else if (c == "G90") {
       relative_xyz = false;

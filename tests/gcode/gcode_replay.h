@@ -22,6 +22,7 @@ struct ReadExtrusion {
   // The last M104/M109 target given to any tool: what a nozzle shared by all tools is set to.
   double heater_target;
   double feed;  // the F in effect, mm/min (-1 if none)
+  double z0;    // the height the move starts at (the head's z before it; NaN if never set)
 };
 
 // A T command that selects another tool than the one in use.

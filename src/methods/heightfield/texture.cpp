@@ -833,7 +833,7 @@ std::vector<unsigned char> screen_print_png(const ScreenPrint& print) {
     for (int s = 24; s >= 0; s -= 8) chunk.push_back(static_cast<unsigned char>(v >> s));
   };
   be32(9);
-  chunk.insert(chunk.end(), {'p', 'H', 'Y', 's'});
+  for (const char c : {'p', 'H', 'Y', 's'}) chunk.push_back(static_cast<unsigned char>(c));
   be32(per_metre);
   be32(per_metre);
   chunk.push_back(1);  // unit: the metre
