@@ -37,7 +37,7 @@ struct TilesCliOptions {
   std::string printer = "generic-marlin";
   double pitch_mm = 0;
   double thickness_mm = 0.6;
-  double bilayer = 0.04;
+  double bilayer = 0;
   bool strict = false;
   double mesh_edge_mm = 0;
   bool optimize = true;
@@ -73,7 +73,7 @@ void check(const TilesCliOptions& o) {
                       o.thickness_mm));
   require(o.bilayer >= 0 && o.bilayer < 0.3,
           fmt::format("--bilayer {}: give the shrink difference between the halves as a "
-                      "fraction (0.04 = 4 points)",
+                      "fraction (0.04 = 4 points), or 0 to match each ring's curvature",
                       o.bilayer));
   require(o.mesh_edge_mm == 0 || (o.mesh_edge_mm >= 0.2 && o.mesh_edge_mm <= 10),
           fmt::format("--mesh-edge {}: give 0.2 to 10 mm, or 0 for automatic", o.mesh_edge_mm));
@@ -125,6 +125,21 @@ int run_tiles(const TilesCliOptions& o, const GlobalOptions& global) {
     plan = plan_toolpath_print(traced_layer_paths(design.print.toolpath), plate.plate, plate.F,
                                plate.stack.materials, printer, print_options);
     plan->seconds += design.times.paths;
+  }
+  // The loop closed: what plate.gcode deposits, simulated from the same start, against the shape
+  // the layer stack gives (the tiles have no target surface as a whole: a network bends at its
+  // joints).
+  std::optional<ClosedLoop> loop;
+  double loop_seconds = 0;
+  if (plan && design.simulated) {
+    report_progress(progress, {"simulate", 0, 0, NAN, "the sheet as plate.gcode prints it"});
+    const auto t = std::chrono::steady_clock::now();
+    std::vector<TileLevels> levels;
+    for (const TileResult& tile : design.tiles) levels.push_back(tile.levels);
+    loop =
+        close_the_loop(plan->gcode.text, "plate.gcode", plate.plate, plate.F, plate.stack.materials,
+                       tile_start(design.plate, levels), design.simulation.V, design.simulation.V);
+    loop_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
   }
 
   std::vector<RunFile> files;
@@ -211,11 +226,21 @@ int run_tiles(const TilesCliOptions& o, const GlobalOptions& global) {
     m["filament_g"] = plan->gcode.filament_mass;
     m["path_length_mm"] = design.print.path_length;
   }
+  if (loop) {
+    m["gcode_vs_fields_avg_pct"] = loop->to_prediction.mean_percent;
+    m["gcode_vs_fields_max_pct"] = loop->to_prediction.max_percent;
+    m["gcode_converged"] = loop->prediction.result.converged;
+    m["t_gcode_sim_s"] = loop_seconds;
+  }
 
   RunOutputs run;
   run.method = plate.method;
   run.plate = plate;
   if (design.simulated) run.predicted = Mesh{design.simulation.V, plate.F};
+  if (loop) {
+    run.gcode_predicted = Mesh{loop->on_target, loop->prediction.plate.design.F};
+    run.gcode_predicted_deviation_mm = loop->to_target.per_vertex_mm;
+  }
   run.print = std::move(plan);
   run.files = std::move(files);
   run.parameters = j;
@@ -250,13 +275,20 @@ int run_tiles(const TilesCliOptions& o, const GlobalOptions& global) {
     }
     fmt::print("\n");
   }
+  if (loop) {
+    fmt::print(
+        "as plate.gcode prints it: {:.3f} % / {:.3f} % (avg / max of the diagonal) from the "
+        "shape the layer stack gives\n",
+        loop->to_prediction.mean_percent, loop->to_prediction.max_percent);
+  }
   fmt::print(
       "design time {:.2f} s (rings {:.2f}, mesh {:.2f}, paths {:.2f}, simulate {:.2f}, "
       "optimize {:.2f})\n",
       design.times.total, design.times.rings, design.times.mesh, design.times.paths,
       design.times.simulation, design.times.optimization);
-  fmt::print("wrote {}: flat.ply{}{}, design.json, report.html\n", o.output,
+  fmt::print("wrote {}: flat.ply{}{}{}, design.json, report.html\n", o.output,
              design.simulated ? ", simulated.ply, profile_N.svg" : "",
+             loop ? ", gcode_simulated.ply" : "",
              run.print ? ", plate.gcode, toolpath.json, layers/" : "");
   return 0;
 }
@@ -306,7 +338,8 @@ Command make_tiles_command(CLI::App& app, const GlobalOptions& global) {
       ->capture_default_str();
   sub->add_option("--bilayer", o->bilayer,
                   "Shrink difference between the bed-side and top halves that makes a tile rise "
-                  "to its side (a fraction)")
+                  "to its side (a fraction; 0: per ring, the one that bends the ring as the "
+                  "risen surface bends)")
       ->capture_default_str();
   sub->add_flag("--strict", o->strict,
                 "Refuse a profile that needs a ring outside the material's shrink range instead "

@@ -326,9 +326,11 @@ void check_crossings(const std::vector<LoopRef>& loops, const std::string& file,
       // (widened by eps), widened by eps.
       double y_lo = std::min(a.y(), b.y()), y_hi = std::max(a.y(), b.y());
       if (x_max - x_min > 1e-12) {
-        const auto y_at = [&](double x) {
+        // Captured by value: clang 14 cannot capture structured bindings.
+        const Eigen::Vector2d from = a, to = b;
+        const auto y_at = [&, from, to](double x) {
           x = std::clamp(x, x_min, x_max);
-          return a.y() + (b.y() - a.y()) * (x - a.x()) / (b.x() - a.x());
+          return from.y() + (to.y() - from.y()) * (x - from.x()) / (to.x() - from.x());
         };
         const double ya = y_at(box.min.x() + c * h - eps);
         const double yb = y_at(box.min.x() + (c + 1) * h + eps);

@@ -20,8 +20,9 @@ int layer_count(double total, double layer_height) {
 // The two halves of the bilayer around `shrinkage`: the bed side shrinks side·δ/2 more, the top
 // side·δ/2 less; near an end of the range the pair is shifted to stay inside it (the mean moves,
 // the difference is kept while the range allows).
-void split_bilayer(RingLevel& level, int side, double difference, double least, double most,
+void split_bilayer(RingLevel& level, int side, double least, double most,
                    const ThicknessCurve& curve, double half) {
+  const double difference = level.bilayer_difference;
   double bed = level.shrinkage + side * difference / 2;
   double top = level.shrinkage - side * difference / 2;
   const double low = std::min(bed, top), high = std::max(bed, top);
@@ -52,10 +53,14 @@ void fill_halves(TileLevels& tile, const Material& material, const RingLevelOpti
   const ThicknessCurve& curve = require_thickness_curve(material);
   const auto [least, most] = reachable_shrinkage(curve);
   for (RingLevel& level : tile.levels) {
-    split_bilayer(level, tile.side, options.bilayer_difference, least, most, curve,
-                  options.sheet_thickness / 2);
+    split_bilayer(level, tile.side, least, most, curve, options.sheet_thickness / 2);
   }
 }
+
+// The automatic δ's range: one point keeps the side chosen where the surface is nearly flat, six
+// keep the halves' layer heights apart within the curve near a sharp apex.
+constexpr double kLeastBilayer = 0.01;
+constexpr double kMostBilayer = 0.06;
 
 void check_options(const RingLevelOptions& options) {
   if (!(options.pitch > 0) || !(options.sheet_thickness > 0) ||
@@ -109,6 +114,24 @@ TileLevels tile_levels(const TileProfile& profile, double design_radius, int num
     level.printed = radii(m) >= hole_radius;
   }
   tile.printability = printability(profile, rings, options.strict);
+  const double length = profile_length(profile);
+  for (RingLevel& level : tile.levels) {
+    if (options.bilayer_difference > 0) {
+      level.bilayer_difference = options.bilayer_difference;
+      continue;
+    }
+    // The parallel's normal curvature sin α / ρ at the ring's arc length, α from a central
+    // difference along the meridian.
+    const double s = std::clamp(level.flat_radius, 0.0, length);
+    const double ds = std::min(0.05, 0.25 * options.pitch);
+    const Eigen::Vector2d a = profile_point_at_length(profile, std::max(0.0, s - ds));
+    const Eigen::Vector2d b = profile_point_at_length(profile, std::min(length, s + ds));
+    const double sin_slope = std::abs(b.y() - a.y()) / std::max((b - a).norm(), 1e-12);
+    const double rho = profile_point_at_length(profile, s).x();
+    const double curvature = sin_slope / std::max(rho, options.pitch);
+    level.bilayer_difference =
+        std::clamp(2.0 / 3.0 * curvature * options.sheet_thickness, kLeastBilayer, kMostBilayer);
+  }
   fill_halves(tile, material, options);
   return tile;
 }

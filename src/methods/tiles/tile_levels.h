@@ -19,10 +19,13 @@ struct RingLevelOptions {
   double sheet_thickness = 0.6;  // printed: Floor(thickness / t) layers, half of them per half (§3)
   // δ: the bed-side half shrinks this much more than the top half for a tile rising to +z (the
   // side that shrinks more along the rings becomes concave; notes §5), less for one rising to −z.
-  // The notes propose 3-5 points; 4 brings the simulated depth of 30 mm cone and paraboloid tiles
-  // within 1 % of their printed shrink's geometry (2 points left them 3-5 % short: the sheet's
-  // soft across-path direction lets the meridians shorten, and the bilayer's bending lifts them).
-  double bilayer_difference = 0.04;
+  // 0: per ring, the δ whose rest curvature along the ring, 3δ / (2T) for two equal halves of a
+  // sheet T thick (Timoshenko's bilayer), is the target's own normal curvature along that parallel,
+  // sin α / ρ (α the profile's slope, ρ the distance to the axis), within [1, 6] points: the
+  // bilayer then bends the rings as the risen surface does instead of against it. A fixed δ
+  // over-bends a large tile's outer rings (a 60 mm cone with δ = 4 points rose 10 % short, in 81
+  // Newton steps) or under-bends a small one's (a 30 mm cone with 2 points, 3 % short).
+  double bilayer_difference = 0;
   bool strict = false;  // refuse a profile that needs a clamped ring rather than print it
 };
 
@@ -35,9 +38,10 @@ struct RingLevel {
   double wanted = 0;       // Sh(r) the profile asks
   // Sh printed: the halves' shrink weighted by their thickness, around the clamped Sh(r)
   double shrinkage = 0;
-  int clamped = 0;           // −1 raised to the least, +1 lowered to the most, 0 reached
-  double bed_shrinkage = 0;  // of the bed-side half
-  double top_shrinkage = 0;  // of the top half
+  int clamped = 0;                // −1 raised to the least, +1 lowered to the most, 0 reached
+  double bilayer_difference = 0;  // δ of this ring
+  double bed_shrinkage = 0;       // of the bed-side half
+  double top_shrinkage = 0;       // of the top half
   double bed_layer_height = 0, top_layer_height = 0;  // mm
   int bed_layers = 0, top_layers = 0;                 // Floor(total / t) shared, at least 1 each
   bool printed = true;                                // false inside a hole (CHI 2019 Fig. 7)

@@ -53,7 +53,11 @@ PathPolyline to_polyline(const RingPath& path, const TileLevels& tile, int pass,
 }
 
 // Splits `piece` (ring indices, outer to inner, one ring per level) into runs along which the
-// nozzle height does not change direction, each oriented to climb.
+// nozzle height does not turn back by more than kTurnBack, each oriented to climb. A dip of a few
+// micrometres (per-ring bilayers of slightly different heights) ploughs nothing: the replay's
+// tolerance is min(0.25 t, 0.02) mm.
+constexpr double kTurnBack = 0.01;  // mm
+
 std::vector<std::vector<int>> climbing_runs(const std::vector<int>& piece,
                                             const std::vector<double>& z) {
   std::vector<std::vector<int>> runs;
@@ -61,15 +65,20 @@ std::vector<std::vector<int>> climbing_runs(const std::vector<int>& piece,
   while (start < piece.size()) {
     size_t end = start + 1;
     int direction = 0;  // +1 rising inward, −1 falling
+    double low = z[start], high = z[start];
     while (end < piece.size()) {
-      const double dz = z[end] - z[end - 1];
-      const int d = std::abs(dz) < 1e-9 ? 0 : (dz > 0 ? +1 : -1);
-      if (d != 0 && direction != 0 && d != direction) break;
-      if (d != 0) direction = d;
+      if (direction == 0) {
+        if (z[end] > low + kTurnBack) direction = +1;
+        if (z[end] < high - kTurnBack) direction = -1;
+      } else if ((direction > 0 && z[end] < high - kTurnBack) ||
+                 (direction < 0 && z[end] > low + kTurnBack)) {
+        break;
+      }
+      low = std::min(low, z[end]);
+      high = std::max(high, z[end]);
       ++end;
     }
     std::vector<int> run(piece.begin() + start, piece.begin() + end);
-    std::vector<double> run_z(z.begin() + start, z.begin() + end);
     if (direction < 0) std::reverse(run.begin(), run.end());
     runs.push_back(std::move(run));
     start = end;
