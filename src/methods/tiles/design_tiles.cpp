@@ -7,8 +7,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <fstream>
-#include <sstream>
 
 #include "common/error.h"
 #include "plate/laminate.h"
@@ -20,17 +18,6 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-std::string read_text(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    throw UserError(ErrorCategory::kFile,
-                    fmt::format("{}: cannot open the profile: check the path", path.string()));
-  }
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
 // Every boundary point within 0.5 % of R from the boundary's centroid: the rings are circles.
 bool is_circle(const TileOutline& outline) {
   if (!outline.holes.empty() || outline.boundary.rows() < 12) return false;
@@ -40,8 +27,8 @@ bool is_circle(const TileOutline& outline) {
 }
 
 // The polygon with the holes a profile's hole radius cuts out (the rings at depth R − r_h).
-TileOutline with_profile_hole(const TileOutline& outline, double design_radius, double hole_radius,
-                              double pitch) {
+TileOutline with_profile_hole(const TileOutline& outline, double design_radius,
+                              double hole_radius) {
   TileOutline out = outline;
   if (!(hole_radius > 0)) return out;
   RingOptions hole;
@@ -52,7 +39,6 @@ TileOutline with_profile_hole(const TileOutline& outline, double design_radius, 
     if (ring.level != 0 || ring.points.rows() < 3) continue;
     out.holes.push_back(ring.points.colwise().reverse());
   }
-  (void)pitch;
   return out;
 }
 
@@ -422,7 +408,7 @@ TilesDesign design_tiles(const TileLayout& layout, const TilesDesignOptions& opt
     if (!spec.profile_csv.empty()) {
       // A drawn profile keeps its shape: scaled as a whole to the tile's radius.
       tile.profile = scale_profile_to_length(
-          read_profile_csv(read_text(spec.profile_csv), spec.profile_csv.string()), R);
+          read_profile_csv(read_layout_file(spec.profile_csv), spec.profile_csv.string()), R);
     } else {
       tile.profile = tile_profile(spec.profile, R, spec.height_mm);
     }
@@ -433,7 +419,7 @@ TilesDesign design_tiles(const TileLayout& layout, const TilesDesignOptions& opt
       design.warnings.push_back(
           fmt::format("{}: {}", spec.outline.source, tile.levels.printability.warning));
     }
-    outlines.push_back(with_profile_hole(spec.outline, R, spec.hole_radius_mm, pitch));
+    outlines.push_back(with_profile_hole(spec.outline, R, spec.hole_radius_mm));
     design.tiles.push_back(std::move(tile));
   }
   design.times.rings = seconds_since(t0);

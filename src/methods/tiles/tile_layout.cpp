@@ -91,17 +91,6 @@ void read_settings(const json& j, const std::string& source, const std::string& 
   }
 }
 
-std::string read_text(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    throw UserError(ErrorCategory::kFile,
-                    fmt::format("{}: cannot open the file: check the path", path.string()));
-  }
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
 }  // namespace
 
 Eigen::MatrixX2d circle_polygon(const Eigen::Vector2d& center, double radius,
@@ -246,7 +235,7 @@ TileLayout load_tile_layout(const std::filesystem::path& path, const TileSpec& d
   std::transform(ext.begin(), ext.end(), ext.begin(),
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   if (ext == ".json") {
-    return read_tile_layout(read_text(path), path.string(), path.parent_path());
+    return read_tile_layout(read_layout_file(path), path.string(), path.parent_path());
   }
   TileLayout layout;
   layout.source = path.string();
@@ -262,6 +251,17 @@ TileLayout load_tile_layout(const std::filesystem::path& path, const TileSpec& d
                                 path.string()));
   }
   return layout;
+}
+
+std::string read_layout_file(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    throw UserError(ErrorCategory::kFile,
+                    fmt::format("{}: cannot open the file: check the path", path.string()));
+  }
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
 }
 
 std::vector<std::string> tile_example_names() {
