@@ -165,6 +165,7 @@ int run_tiles(const TilesCliOptions& o, const GlobalOptions& global) {
       t["depth_error_pct"] = m.depth_error_pct;
       t["ring_radius_error_mm"] = m.ring_radius_error_mm;
       t["profile_rms_mm"] = m.profile_rms_mm;
+      t["profile_spread_mm"] = m.profile_spread_mm;
       if (!tile.circular) t["mapped_profile_rms_mm"] = tile.mapped_profile_rms_mm;
       t["optimized"] = tile.optimized;
       files.push_back(
@@ -272,6 +273,11 @@ int run_tiles(const TilesCliOptions& o, const GlobalOptions& global) {
           "{:.2f} mm",
           tm.side > 0 ? "up" : "down", tm.height_mm, tm.expected_height_mm, tm.depth_error_pct,
           tm.profile_rms_mm);
+      if (!tile.circular) {
+        fmt::print(" ({:.2f} with the circle's shrink{}), radii {:.2f} mm apart",
+                   tile.mapped_profile_rms_mm, tile.optimized ? ", optimized" : "",
+                   tm.profile_spread_mm);
+      }
     }
     fmt::print("\n");
   }

@@ -116,10 +116,20 @@ std::vector<int> inscribed_radius_vertices(const TileResult& tile, const TilePla
   return out;
 }
 
-// Per vertex along the inscribed radii: its height above the rim's centroid (along the axis
-// through the apex) minus the target profile's at its flat radius, mm.
-Eigen::VectorXd profile_residuals(const TileResult& tile, const TilePlate& plate,
-                                  const Eigen::MatrixXd& V, int t, double pitch) {
+// The risen profile along the inscribed radii against the target, per ring level (the levels
+// the radii cross, from the rim inward): the mean over the level's vertices of their height above
+// the rim's centroid (along the axis through the apex) minus the target's at their flat radius,
+// mm. The mean over a level is the tile's profile as the circle's rings give it; what the radii
+// add to it, the spread about that mean, is how they differ from one another: a polygon's apex is
+// a vertex where four faces meet, and it flexes at almost no cost (the rounded square tilts its
+// apex 1-2 mm toward one side, whichever the mesh favours), which no per-ring shrink can set.
+struct ProfileResiduals {
+  Eigen::VectorXd per_level;  // mm
+  double spread_rms = 0;      // mm, the vertices' rms about their level's mean
+};
+
+ProfileResiduals profile_residuals(const TileResult& tile, const TilePlate& plate,
+                                   const Eigen::MatrixXd& V, int t, double pitch) {
   const double R = tile.levels.design_radius;
   const std::vector<int> band = inscribed_radius_vertices(tile, plate, t, pitch);
   int apex = -1;
@@ -133,19 +143,40 @@ Eigen::VectorXd profile_residuals(const TileResult& tile, const TilePlate& plate
       ++rim_count;
     }
   }
-  if (apex < 0 || rim_count == 0) return {};
+  ProfileResiduals out;
+  if (apex < 0 || rim_count == 0) return out;
   rim /= rim_count;
   const Eigen::RowVector3d axis = (V.row(apex) - rim).normalized();
   const double length = profile_length(tile.profile);
   const double rim_z = profile_point_at_length(tile.profile, std::min(R, length)).y();
-  Eigen::VectorXd residuals(static_cast<Eigen::Index>(band.size()));
+  const int num_levels = static_cast<int>(tile.levels.levels.size());
+  std::vector<int> vertex_level(band.size());
+  std::vector<double> residual(band.size());
+  Eigen::VectorXd sum = Eigen::VectorXd::Zero(num_levels);
+  Eigen::VectorXi count = Eigen::VectorXi::Zero(num_levels);
   for (size_t i = 0; i < band.size(); ++i) {
     const int v = band[i];
     const double r = std::max(0.0, R - plate.vertex_depth(v));
     const double target = profile_point_at_length(tile.profile, std::min(length, r)).y() - rim_z;
-    residuals(static_cast<Eigen::Index>(i)) = (V.row(v) - rim).dot(axis) - target;
+    residual[i] = (V.row(v) - rim).dot(axis) - target;
+    vertex_level[i] = std::clamp(static_cast<int>(std::lround(plate.vertex_depth(v) / pitch - 0.5)),
+                                 0, num_levels - 1);
+    sum(vertex_level[i]) += residual[i];
+    ++count(vertex_level[i]);
   }
-  return residuals;
+  std::vector<double> means;
+  for (int l = 0; l < num_levels; ++l) {
+    if (count(l) > 0) means.push_back(sum(l) / count(l));
+  }
+  out.per_level =
+      Eigen::Map<const Eigen::VectorXd>(means.data(), static_cast<Eigen::Index>(means.size()));
+  double spread = 0;
+  for (size_t i = 0; i < band.size(); ++i) {
+    const double d = residual[i] - sum(vertex_level[i]) / count(vertex_level[i]);
+    spread += d * d;
+  }
+  if (!band.empty()) out.spread_rms = std::sqrt(spread / static_cast<double>(band.size()));
+  return out;
 }
 
 // The rms of the residuals about their mean: the profile's shape error, whatever the height the
@@ -280,7 +311,9 @@ TileMeasure measure_tile(const TileResult& tile, const TilePlate& plate, const E
         profile_point_at_length(tile.profile, std::min(length, R * i / samples));
     m.target.row(i) << p.x(), p.y() - rim_point.y();
   }
-  m.profile_rms_mm = rms_about_mean(profile_residuals(tile, plate, V, t, pitch));
+  const ProfileResiduals residuals = profile_residuals(tile, plate, V, t, pitch);
+  m.profile_rms_mm = rms_about_mean(residuals.per_level);
+  m.profile_spread_mm = residuals.spread_rms;
   return m;
 }
 
@@ -328,7 +361,7 @@ Eigen::VectorXd optimized_level_shrinkage(const TilesDesign& design,
     Evaluation e;
     e.ok = result.converged;
     e.V = result.V;
-    e.residual = profile_residuals(trial, plate, result.V, 0, pitch);
+    e.residual = profile_residuals(trial, plate, result.V, 0, pitch).per_level;
     e.residual.array() -= e.residual.mean();
     return e;
   };

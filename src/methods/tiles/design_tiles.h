@@ -54,9 +54,12 @@ struct TileMeasure {
   // Largest |distance to the axis − (1 − Sh) r| of a ring (the mean over its vertices) over the
   // rings but the outermost, whose edge is free (circles only).
   double ring_radius_error_mm = 0;
-  // Along the inscribed radii, away from the apex (r ≥ 0.2 R): rms of the height against the
-  // target profile about their mean difference (the shape, whatever the rim's height), mm.
+  // Along the inscribed radii, away from the apex (r ≥ 0.2 R), per ring level the mean height
+  // against the target profile: their rms about their mean (the shape, whatever the rim's
+  // height), mm. And how far the radii's heights lie from their level's mean (rms, mm): a
+  // polygon's apex flexes toward one side at almost no cost, which per-ring shrink cannot set.
   double profile_rms_mm = 0;
+  double profile_spread_mm = 0;
   // The curves for the plot: target (the profile asked), geometric (the printed shrink), simulated
   // (per level: mean radius and height), as (ρ, z) rows, z above the rim.
   Eigen::MatrixX2d target, geometric, simulated;

@@ -135,17 +135,23 @@ Eigen::MatrixX2d rounded_square(double h, double c) {
   return out;
 }
 
-// Issue 24 asks for 2x closer; the refinement gets about 8 % (docs/tiles.md): this checks that it
-// helps, as judged from the flat sheet.
-TEST(DesignTiles, TheOptimizedShrinkBringsARoundedSquareCloserThanTheCirclesMapping) {
+// The bar of issue 24: at least 2x closer to the target than the circle's mapping Sh′ alone, as
+// judged from the flat sheet again (about 12x: 0.49 -> 0.04 mm on this 6 mm cap).
+TEST(DesignTiles, TheOptimizedShrinkBringsARoundedSquareTwiceCloserThanTheCirclesMapping) {
   TileLayout layout = one_tile("spherical-cap", 15, 6, +1);
   layout.tiles[0].outline.boundary = rounded_square(15, 4);
   const TilesDesign design = design_tiles(layout, default_options());
   const TileResult& tile = design.tiles[0];
   EXPECT_FALSE(tile.circular);
   ASSERT_TRUE(tile.optimized) << tile.mapped_profile_rms_mm << " mm with Sh' alone";
-  EXPECT_LT(tile.measure.profile_rms_mm, tile.mapped_profile_rms_mm)
+  EXPECT_LT(2 * tile.measure.profile_rms_mm, tile.mapped_profile_rms_mm)
       << tile.measure.profile_rms_mm << " vs " << tile.mapped_profile_rms_mm << " mm";
+  // The optimized shrink stays printable.
+  const auto [least, most] = reachable_shrinkage(*default_options().material.thickness_curve);
+  for (const RingLevel& level : tile.levels.levels) {
+    EXPECT_GE(level.shrinkage, least - 1e-12);
+    EXPECT_LE(level.shrinkage, most + 1e-12);
+  }
   EXPECT_TRUE(design.simulation.converged);
   EXPECT_EQ(tile.measure.side, +1);
 }
