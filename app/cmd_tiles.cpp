@@ -136,9 +136,14 @@ int run_tiles(const TilesCliOptions& o, const GlobalOptions& global) {
     const auto t = std::chrono::steady_clock::now();
     std::vector<TileLevels> levels;
     for (const TileResult& tile : design.tiles) levels.push_back(tile.levels);
-    loop =
-        close_the_loop(plan->gcode.text, "plate.gcode", plate.plate, plate.F, plate.stack.materials,
-                       tile_start(design.plate, levels), design.simulation.V, design.simulation.V);
+    // A lattice's lines cover only their share of a face in each layer (w / spacing): a face
+    // they cross is printed, as the layer stack has it.
+    DepositedPlateOptions deposit;
+    if (layout.has_lattice)
+      deposit.min_coverage = std::min(deposit.min_coverage, 0.5 * design.lattice.fill);
+    loop = close_the_loop(plan->gcode.text, "plate.gcode", plate.plate, plate.F,
+                          plate.stack.materials, tile_start(design.plate, levels),
+                          design.simulation.V, design.simulation.V, deposit);
     loop_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
   }
 
@@ -166,7 +171,7 @@ int run_tiles(const TilesCliOptions& o, const GlobalOptions& global) {
       t["ring_radius_error_mm"] = m.ring_radius_error_mm;
       t["profile_rms_mm"] = m.profile_rms_mm;
       t["profile_spread_mm"] = m.profile_spread_mm;
-      if (!tile.circular) t["mapped_profile_rms_mm"] = tile.mapped_profile_rms_mm;
+      if (tile.optimized) t["mapped_profile_rms_mm"] = tile.mapped_profile_rms_mm;
       t["optimized"] = tile.optimized;
       files.push_back(
           {fmt::format("profile_{}.svg", i),
@@ -231,6 +236,7 @@ int run_tiles(const TilesCliOptions& o, const GlobalOptions& global) {
     m["gcode_vs_fields_avg_pct"] = loop->to_prediction.mean_percent;
     m["gcode_vs_fields_max_pct"] = loop->to_prediction.max_percent;
     m["gcode_converged"] = loop->prediction.result.converged;
+    m["gcode_unprinted_faces"] = loop->prediction.plate.removed_faces;
     m["t_gcode_sim_s"] = loop_seconds;
   }
 
@@ -273,11 +279,10 @@ int run_tiles(const TilesCliOptions& o, const GlobalOptions& global) {
           "{:.2f} mm",
           tm.side > 0 ? "up" : "down", tm.height_mm, tm.expected_height_mm, tm.depth_error_pct,
           tm.profile_rms_mm);
-      if (!tile.circular) {
-        fmt::print(" ({:.2f} with the circle's shrink{}), radii {:.2f} mm apart",
-                   tile.mapped_profile_rms_mm, tile.optimized ? ", optimized" : "",
-                   tm.profile_spread_mm);
+      if (tile.optimized) {
+        fmt::print(" (optimized; {:.2f} with the circle's shrink)", tile.mapped_profile_rms_mm);
       }
+      if (!tile.circular) fmt::print(", inscribed radii {:.2f} mm apart", tm.profile_spread_mm);
     }
     fmt::print("\n");
   }

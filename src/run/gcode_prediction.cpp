@@ -64,8 +64,10 @@ GcodePrediction predict_from_gcode(std::string_view text, const std::string& sou
 ClosedLoop close_the_loop(std::string_view gcode, const std::string& source,
                           const Eigen::MatrixXd& plate, const Eigen::MatrixXi& F,
                           const std::vector<Material>& tool_materials, const Eigen::MatrixXd& start,
-                          const Eigen::MatrixXd& target, const Eigen::MatrixXd& fields_prediction) {
+                          const Eigen::MatrixXd& target, const Eigen::MatrixXd& fields_prediction,
+                          const DepositedPlateOptions& deposit) {
   GcodePredictionOptions options;
+  options.deposit = deposit;
   options.plate_V = plate;
   options.plate_F = F;
   options.start = start;

@@ -51,7 +51,8 @@ GcodePrediction predict_from_gcode(std::string_view text, const std::string& sou
 // start its fields' prediction had), and compared with the target and with that prediction, each
 // after the rigid motion that best fits them (the two are registered differently when the G-code
 // leaves faces of the plate out). Distances over the vertices the G-code prints, in % of the
-// target's diagonal.
+// target's diagonal. `deposit`: how beads become faces' layers (a sparse lattice covers less of
+// a face than the default least coverage).
 struct ClosedLoop {
   GcodePrediction prediction;
   Eigen::MatrixXd on_target;    // its shape, rigidly fitted to the target (kept vertices)
@@ -61,6 +62,7 @@ struct ClosedLoop {
 ClosedLoop close_the_loop(std::string_view gcode, const std::string& source,
                           const Eigen::MatrixXd& plate, const Eigen::MatrixXi& F,
                           const std::vector<Material>& tool_materials, const Eigen::MatrixXd& start,
-                          const Eigen::MatrixXd& target, const Eigen::MatrixXd& fields_prediction);
+                          const Eigen::MatrixXd& target, const Eigen::MatrixXd& fields_prediction,
+                          const DepositedPlateOptions& deposit = {});
 
 }  // namespace flatmorph

@@ -111,6 +111,7 @@ std::vector<RunMetric> run_metric_list(const nlohmann::ordered_json& metrics) {
     }
     if (key.ends_with("area_pct") || key.ends_with("deviation_mean_pct")) unit = "%";
     if (key.ends_with("edges_pct")) unit = "% of the printing edges";
+    if (key.starts_with("depth_error")) unit = "% of the depth the printed shrink gives";
     list.push_back(
         {key, value.is_boolean() ? (value.get<bool>() ? 1.0 : 0.0) : value.get<double>(), unit});
   }

@@ -508,8 +508,8 @@ TilesDesign design_tiles(const TileLayout& layout, const TilesDesignOptions& opt
     }
     design.times.simulation = seconds_since(t0);
 
+    for (TileResult& tile : design.tiles) tile.mapped_profile_rms_mm = tile.measure.profile_rms_mm;
     TileResult& only = design.tiles[0];
-    only.mapped_profile_rms_mm = only.measure.profile_rms_mm;
     if (options.optimize && design.tiles.size() == 1 && !only.circular && !layout.has_lattice &&
         design.simulation.converged) {
       t0 = std::chrono::steady_clock::now();
