@@ -187,7 +187,7 @@ std::vector<DepositedLayer> rasterize_deposition(const GcodeDeposition& depositi
   std::vector<double> below(n, 0.0);  // top of what lies under each sample, mm (the bed: 0)
   std::vector<int> stamp(n, -1);
   std::vector<int> covered(n);
-  std::vector<double> cos2(n), sin2(n), top(n), feed(n);
+  std::vector<double> cos2(n), sin2(n), top(n), top_height(n), feed(n);
   std::vector<int> tool(n);
   size_t next = 0;
   int bead_id = 0;
@@ -213,6 +213,7 @@ std::vector<DepositedLayer> rasterize_deposition(const GcodeDeposition& depositi
         feed[i] += bead.feed_rate;
         if (z > top[i]) {
           top[i] = z;
+          top_height[i] = bead.height;
           tool[i] = bead.tool;
         }
       });
@@ -223,7 +224,9 @@ std::vector<DepositedLayer> rasterize_deposition(const GcodeDeposition& depositi
     std::vector<std::map<int, int>> tool_count(num_faces);
     for (size_t i = 0; i < n; ++i) {
       if (covered[i] == 0) continue;
-      const double thickness = top[i] - below[i];
+      // A bead fills down to what lies below it, but no deeper than its own height: laid over a
+      // gap (a lattice's second family between the first's lines) it keeps its volume.
+      const double thickness = std::min(top[i] - below[i], top_height[i]);
       if (!(thickness > 0)) continue;  // ironing over what is there deposits nothing measurable
       below[i] = top[i];
       const int f = samples.face[i];
@@ -487,11 +490,17 @@ DepositedPlate deposited_plate(const GcodeDeposition& deposition, const Eigen::M
     if (any) out.layers.push_back(std::move(layer));
   }
 
+  // A layer is as thick as its beads are high where they lie (its deposited volume over the
+  // area they cover) and covers that share of the face (Layer::cover): a lattice's sparse lines
+  // keep their height and their stiffness scales with their share.
+  auto bead_height = [](const DepositedLayer& layer, Eigen::Index i) {
+    return layer.thickness(i) / std::max(layer.coverage(i), 1e-9);
+  };
   // Each face's printed thickness, for the bilayer gradient spread over it (Eq. 15).
   Eigen::VectorXd total = Eigen::VectorXd::Zero(n);
   for (const DepositedLayer& layer : out.layers) {
     for (Eigen::Index i = 0; i < n; ++i) {
-      if (layer.tool(i) >= 0) total(i) += layer.thickness(i);
+      if (layer.tool(i) >= 0) total(i) += bead_height(layer, i);
     }
   }
   Eigen::VectorXd z = Eigen::VectorXd::Zero(n);  // bottom of the next layer above each face
@@ -502,20 +511,20 @@ DepositedPlate deposited_plate(const GcodeDeposition& deposition, const Eigen::M
       const int t = layer.tool(i);
       if (t < 0) continue;
       const Material& m = tool_materials[t];
-      const double thickness = layer.thickness(i);
+      const double height = bead_height(layer, i);
       printed.material(i) = t;
-      printed.printed_thickness(i) = thickness;
+      printed.printed_thickness(i) = height;
+      printed.cover(i) = std::min(layer.coverage(i), 1.0);
       printed.theta(i) = layer.theta(i);
-      // The curves are functions of the bead's own height, not of the smeared thickness, and of
-      // the speed it was laid at (feed rates are mm/min).
-      const double height = thickness / std::max(layer.coverage(i), 1e-9);
+      // The curves are functions of the bead's height and of the speed it was laid at (feed
+      // rates are mm/min).
       const double lambda1 = printed_lambda1(m, height, layer.feed_rate(i) / 60);
-      const double mid = (z(i) + thickness / 2) / total(i) - 0.5;
+      const double mid = (z(i) + height / 2) / total(i) - 0.5;
       printed.lambda1(i) = lambda1 + mid * m.delta_lambda1;
-      printed.delta_lambda1(i) = m.delta_lambda1 * thickness / total(i);
+      printed.delta_lambda1(i) = m.delta_lambda1 * height / total(i);
       printed.lambda2(i) = m.lambda2;
       printed.lambda3(i) = m.lambda3;
-      z(i) += thickness;
+      z(i) += height;
     }
     design.stack.layers.push_back(std::move(printed));
   }

@@ -33,7 +33,7 @@ struct DepositedPlateOptions {
 struct DepositedLayer {
   Eigen::VectorXd coverage;   // fraction of the face's area under a bead, [0, 1]
   Eigen::VectorXd theta;      // axial mean bead direction, rad in (−π/2, π/2]
-  Eigen::VectorXd thickness;  // deposited volume over the face's area, mm
+  Eigen::VectorXd thickness;  // deposited volume over the face's area, mm (smeared)
   Eigen::VectorXi tool;       // the tool with the most covered area (−1 where nothing is)
   Eigen::VectorXd feed_rate;  // mean over the covered area, mm/min
 };
@@ -65,8 +65,10 @@ FootprintMesh footprint_plate(const GcodeDeposition& deposition, const std::stri
 
 // The stack of what was deposited (one Layer per layer of the file that covers any face), as a
 // PlateDesign with method "gcode" on the plate V (#V x 2, bed coordinates; the caller moves it to
-// plate coordinates). tool_materials[t] is tool t's material. The shrink ratios follow each
-// material: lambda1 from its thickness curve at the deposited thickness when it has one (clamped
+// plate coordinates). tool_materials[t] is tool t's material. Each face's layer is as thick as
+// its beads are high (the deposited thickness over the coverage) and covers the share of the face
+// under them (Layer::cover). The shrink ratios follow each
+// material: lambda1 from its thickness curve at the beads' height when it has one (clamped
 // to the calibrated range), and the bilayer gradient delta_lambda1 spread over each face's
 // thickness of that material as the Shrink & Morph stack builder does (shrink_morph_layer_stack),
 // so a file printed from a Shrink & Morph design gives back that design's stack. Faces no layer

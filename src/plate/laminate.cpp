@@ -80,7 +80,7 @@ RestForms laminate_impl(const LayerStack& stack, const std::vector<double>* rate
       if (!l.covers(f)) continue;
       const double tau = l.lambda3(f) * l.printed_thickness(f);
       t += tau;
-      scale += tau * stack.materials[l.material(f)].young_modulus_along;
+      scale += l.cover(f) * tau * stack.materials[l.material(f)].young_modulus_along;
     }
     FaceIntegrals value, rate;
     double bottom = -0.5 * t;
@@ -98,7 +98,9 @@ RestForms laminate_impl(const LayerStack& stack, const std::vector<double>* rate
       const Eigen::Vector3d metric(along, tau * lambda2 * lambda2, 0);
       const Eigen::Vector3d metric_moment(along_moment, mid * tau * lambda2 * lambda2, 0);
       // Both the rest metric and the stiff direction turn with θ: P = S(−θ)ᵀ P0 S(−θ).
-      const Eigen::Matrix3d p0 = layer_frame_norm(lambda1, lambda2, elasticity[l.material(f)]);
+      // A partly covered layer (Layer::cover) is that much less stiff, at its full height.
+      const Eigen::Matrix3d p0 =
+          l.cover(f) * layer_frame_norm(lambda1, lambda2, elasticity[l.material(f)]);
       const double theta = l.theta(f);
       const Eigen::Matrix3d to_layer = turn(-theta), to_plate = turn(theta);
       const Eigen::Matrix3d p = to_layer.transpose() * p0 * to_layer;
@@ -290,13 +292,13 @@ RestForms laminate(const LayerStack& stack, const LayerShrinkRates& rates,
       const Eigen::Vector3d d_metric_moment(d_along_moment,
                                             (d_mid * tau + mid * d_tau) * lambda2 * lambda2, 0);
       const Eigen::Matrix3d& c = elasticity[l.material(f)];
-      const Eigen::Matrix3d p0 = layer_frame_norm(lambda1, lambda2, c);
+      const Eigen::Matrix3d p0 = l.cover(f) * layer_frame_norm(lambda1, lambda2, c);
       const double i1 = 1 / (lambda1 * lambda1), i2 = 1 / (lambda2 * lambda2);
       const Eigen::Matrix3d n = Eigen::Vector3d(i1, i2, i1 + i2).asDiagonal();
       const Eigen::Matrix3d dn =
           Eigen::Vector3d(-2 * i1 / lambda1, 0, -2 * i1 / lambda1).asDiagonal();
       const Eigen::Matrix3d d_p0 =
-          d_lambda1 * (p0 / lambda1 + lambda1 * lambda2 * (dn * c * n + n * c * dn));
+          d_lambda1 * (p0 / lambda1 + l.cover(f) * lambda1 * lambda2 * (dn * c * n + n * c * dn));
       const Eigen::Matrix3d to_layer = turn(-l.theta(f)), to_plate = turn(l.theta(f));
       const Eigen::Matrix3d p = to_layer.transpose() * p0 * to_layer;
       const Eigen::Matrix3d dp = to_layer.transpose() * d_p0 * to_layer;

@@ -29,6 +29,7 @@ Layer uniform_layer(int num_faces, int material, const Material& properties,
   layer.delta_lambda1 = Eigen::VectorXd::Zero(num_faces);
   layer.lambda2 = Eigen::VectorXd::Constant(num_faces, properties.lambda2);
   layer.lambda3 = Eigen::VectorXd::Constant(num_faces, properties.lambda3);
+  layer.cover = Eigen::VectorXd::Ones(num_faces);
   return layer;
 }
 
@@ -39,11 +40,11 @@ void check_layer_stack(const LayerStack& stack) {
     const Layer& l = stack.layers[k];
     if (l.printed_thickness.size() != n || l.material.size() != n || l.theta.size() != n ||
         l.lambda1.size() != n || l.delta_lambda1.size() != n || l.lambda2.size() != n ||
-        l.lambda3.size() != n) {
+        l.lambda3.size() != n || l.cover.size() != n) {
       throw UserError(ErrorCategory::kOption,
                       fmt::format("layer {} of the stack does not give one value per face ({} "
-                                  "faces): fill printed_thickness, material, theta, lambda1..3 "
-                                  "and delta_lambda1 for every face",
+                                  "faces): fill printed_thickness, material, theta, lambda1..3, "
+                                  "delta_lambda1 and cover for every face",
                                   k + 1, n));
     }
     for (Eigen::Index f = 0; f < n; ++f) {
@@ -61,6 +62,12 @@ void check_layer_stack(const LayerStack& stack) {
                         fmt::format("layer {}, face {}: printed thickness {} mm; use a positive "
                                     "thickness",
                                     k + 1, f, l.printed_thickness(f)));
+      }
+      if (!(l.cover(f) > 0 && l.cover(f) <= 1)) {
+        throw UserError(ErrorCategory::kOption,
+                        fmt::format("layer {}, face {}: cover {}; the share of the face under "
+                                    "the layer's beads lies in (0, 1]",
+                                    k + 1, f, l.cover(f)));
       }
       if (!std::isfinite(l.theta(f)) || !(l.lambda1(f) > 0) || !(l.lambda2(f) > 0) ||
           !(l.lambda3(f) > 0) || !std::isfinite(l.delta_lambda1(f)) ||

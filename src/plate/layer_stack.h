@@ -31,6 +31,11 @@ struct Layer {
   Eigen::VectorXd delta_lambda1;
   Eigen::VectorXd lambda2;
   Eigen::VectorXd lambda3;
+  // The share of the face's area under the layer's beads, in (0, 1]: 1 for a solid layer, w /
+  // spacing for a lattice's lines. The layer is printed_thickness thick where its beads lie and
+  // absent between them, so its stiffness scales with the share (it bends as E s h³, not as a
+  // plate s h thick: (s h)³ would make a sixth-covered lattice 36 times too soft).
+  Eigen::VectorXd cover;
 
   static constexpr int kNotCovered = -1;
   bool covers(Eigen::Index face) const { return material(face) != kNotCovered; }

@@ -34,6 +34,7 @@ constexpr Quantity kQuantities[] = {
     {"delta_lambda1", "delta_lambda1"},
     {"lambda2", "lambda2"},
     {"lambda3", "lambda3"},
+    {"cover", "cover"},  // absent from files written before it: 1, solid layers
 };
 
 Eigen::VectorXd layer_values(const Layer& l, const std::string& key) {
@@ -43,7 +44,8 @@ Eigen::VectorXd layer_values(const Layer& l, const std::string& key) {
   if (key == "lambda1") return l.lambda1;
   if (key == "delta_lambda1") return l.delta_lambda1;
   if (key == "lambda2") return l.lambda2;
-  return l.lambda3;
+  if (key == "lambda3") return l.lambda3;
+  return l.cover;
 }
 
 void set_layer_values(Layer& l, const std::string& key, const Eigen::VectorXd& v) {
@@ -54,6 +56,7 @@ void set_layer_values(Layer& l, const std::string& key, const Eigen::VectorXd& v
   if (key == "delta_lambda1") l.delta_lambda1 = v;
   if (key == "lambda2") l.lambda2 = v;
   if (key == "lambda3") l.lambda3 = v;
+  if (key == "cover") l.cover = v;
 }
 
 bool uniform(const Eigen::VectorXd& v) { return v.size() == 0 || (v.array() == v(0)).all(); }
@@ -225,6 +228,10 @@ PlateDesignFile read_plate_design(const std::filesystem::path& plate_mesh_path,
       ++k;
       Layer layer;
       for (const Quantity& q : kQuantities) {
+        if (std::string(q.key) == "cover" && !layer_json.contains(q.key)) {
+          layer.cover = Eigen::VectorXd::Ones(num_faces);
+          continue;
+        }
         const nlohmann::json& value = layer_json.at(q.key);
         Eigen::VectorXd v;
         if (value.is_object()) {

@@ -110,6 +110,52 @@ TEST(DepositedPlate, PartialLayersLeaveTheirFacesUncovered) {
   }
 }
 
+// A lattice: lines 0.4 mm wide every 2.5 mm, along y in layer 1 and along x in layer 2. Each face
+// a line crosses gets a layer as thick as the line's bead (not its volume smeared over the face),
+// covering the share of the face under it; the shares add up to the lines' area.
+TEST(DepositedPlate, ALatticeKeepsItsLinesHeightAndCoversTheirShare) {
+  const testing::TestPlate plate = testing::rectangle_plate(20, 10, 20, 10);
+  GcodeDeposition d;
+  d.num_layers = 2;
+  for (int layer = 0; layer < 2; ++layer) {
+    for (double u = -8.75; u < 10; u += 2.5) {
+      DepositedBead bead;
+      const double z = 0.2 * (layer + 1);
+      bead.start = layer == 0 ? Eigen::Vector3d(u, -6, z) : Eigen::Vector3d(-11, u / 2, z);
+      bead.end = layer == 0 ? Eigen::Vector3d(u, 6, z) : Eigen::Vector3d(11, u / 2, z);
+      bead.width = kWidth;
+      bead.height = 0.2;
+      bead.feed_rate = 1500;
+      bead.layer = layer;
+      d.beads.push_back(bead);
+    }
+  }
+  DepositedPlateOptions options;
+  options.min_coverage = 0.01;
+  const DepositedPlate p =
+      deposited_plate(d, plate.V, plate.F, {load_material("pla-paper")}, "test", options);
+  ASSERT_EQ(p.design.stack.num_layers(), 2);
+  double covered_area[2] = {0, 0};
+  for (int k = 0; k < 2; ++k) {
+    const Layer& l = p.design.stack.layers[k];
+    for (Eigen::Index i = 0; i < p.design.F.rows(); ++i) {
+      if (!l.covers(i)) continue;
+      const Eigen::Vector2d a = p.design.plate.row(p.design.F(i, 0)).transpose(),
+                            b = p.design.plate.row(p.design.F(i, 1)).transpose(),
+                            c = p.design.plate.row(p.design.F(i, 2)).transpose();
+      // The second family keeps its height where it lies on the bed between the first's lines.
+      EXPECT_NEAR(l.printed_thickness(i), 0.2, 1e-12) << i;
+      EXPECT_GT(l.cover(i), 0.0);
+      EXPECT_LE(l.cover(i), 1.0);
+      covered_area[k] +=
+          l.cover(i) * std::abs((b - a).x() * (c - a).y() - (b - a).y() * (c - a).x()) / 2;
+    }
+  }
+  // Eight lines 10 mm long along y, eight 20 mm long along x (1.25 mm apart: twice as dense).
+  EXPECT_NEAR(covered_area[0], 8 * kWidth * 10, 0.05 * 8 * kWidth * 10);
+  EXPECT_NEAR(covered_area[1], 8 * kWidth * 20, 0.05 * 8 * kWidth * 20);
+}
+
 // Beads printed the way the Shrink & Morph stack builder describes (n layers of one height along
 // theta1 + w_k theta2) give back that builder's stack: the same thickness, direction and shrink
 // ratios (the bilayer gradient included) on every face they cover.

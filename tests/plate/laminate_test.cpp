@@ -206,7 +206,8 @@ TEST(Laminate, UncoveredLayersAreLeftOutOfTheFace) {
   EXPECT_THROW(laminate(s), UserError);
 }
 
-// A face of two materials, random directions, thicknesses and λ's, one layer left out.
+// A face of two materials, random directions, thicknesses and λ's, one layer left out, one
+// covering only part of the face (a lattice's lines).
 LayerStack random_two_material_stack(unsigned seed) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> uni(-1.0, 1.0);
@@ -225,6 +226,7 @@ LayerStack random_two_material_stack(unsigned seed) {
     l.lambda2(0) *= 1 + 0.05 * uni(rng);
     l.lambda3(0) *= 1 + 0.05 * uni(rng);
     if (k == 2) l.material(0) = Layer::kNotCovered;
+    if (k == 3) l.cover(0) = 0.3 + 0.2 * uni(rng);
     s.layers.push_back(l);
   }
   return s;
@@ -247,7 +249,9 @@ double integrated_energy(const LayerStack& stack, const Vector6d& s) {
     const Eigen::Matrix2d mid_metric =
         r * Eigen::Vector2d(l.lambda1(0) * l.lambda1(0), l.lambda2(0) * l.lambda2(0)).asDiagonal() *
         r.transpose();
+    // Only the share of the area under the layer's beads stores energy.
     const Eigen::Matrix3d p =
+        l.cover(0) *
         material_norm(mid_metric, l.theta(0), stiffness_of(stack.materials[l.material(0)]));
     const int samples = 4000;
     for (int i = 0; i < samples; ++i) {
@@ -328,6 +332,45 @@ TEST(Laminate, PlaOnTpuBilayerBendsAsTimoshenko) {
   std::cout << "PLA on TPU: b = " << b(0, 0) << " /mm, Timoshenko " << kappa << " /mm\n";
 }
 
+// A layer covering a share s of the face is, to the laminate, the solid layer of a material s
+// times as stiff (both moduli), at the same height: lines keep their height, not a plate s h thick.
+TEST(Laminate, APartlyCoveredLayerIsTheSolidLayerOfAMaterialThatMuchSofter) {
+  for (unsigned seed : {5u, 6u}) {
+    LayerStack covered = random_two_material_stack(seed);
+    LayerStack softer = covered;
+    for (int k = 0; k < covered.num_layers(); ++k) {
+      Layer& l = covered.layers[k];
+      if (!l.covers(0)) continue;
+      l.cover(0) = 0.2 + 0.15 * k;
+      Material m = covered.materials[l.material(0)];
+      m.young_modulus_along *= l.cover(0);
+      m.young_modulus_across *= l.cover(0);
+      softer.materials.push_back(m);
+      softer.layers[k].material(0) = static_cast<int>(softer.materials.size()) - 1;
+      softer.layers[k].cover(0) = 1;
+    }
+    const RestForms a = laminate(covered), b = laminate(softer);
+    EXPECT_LT((a.stiffness[0] - b.stiffness[0]).norm(), 1e-12 * b.stiffness[0].norm());
+    EXPECT_LT(max_abs(a.rest_first_fundamental_form[0] - b.rest_first_fundamental_form[0]), 1e-12);
+    EXPECT_LT(max_abs(a.rest_second_fundamental_form[0] - b.rest_second_fundamental_form[0]),
+              1e-10);
+    EXPECT_NEAR(a.thickness(0), b.thickness(0), 1e-15);
+    EXPECT_NEAR(a.energy_scale(0), b.energy_scale(0), 1e-12 * b.energy_scale(0));
+  }
+  // One layer alone: its share scales the stiffness, the rest forms stay.
+  LayerStack one;
+  one.materials = {paper_material()};
+  one.layers = {uniform_layer(1, 0, one.materials[0], 0.2)};
+  const RestForms solid = laminate(one);
+  one.layers[0].cover(0) = 0.25;
+  const RestForms lines = laminate(one);
+  EXPECT_LT((lines.stiffness[0] - 0.25 * solid.stiffness[0]).norm(),
+            1e-12 * solid.stiffness[0].norm());
+  EXPECT_LT(max_abs(lines.rest_first_fundamental_form[0] - solid.rest_first_fundamental_form[0]),
+            1e-14);
+  EXPECT_DOUBLE_EQ(lines.thickness(0), solid.thickness(0));
+}
+
 TEST(Laminate, BadInputsAreUserErrors) {
   const Material m = paper_material();
   // Arrays of different sizes are the caller's bug, not the user's: exit status 1.
@@ -342,6 +385,11 @@ TEST(Laminate, BadInputsAreUserErrors) {
       UserError);
   LayerStack s =
       shrink_morph_layer_stack(Eigen::VectorXd::Zero(2), Eigen::VectorXd::Zero(2), m, 3, 0.08);
+  for (const double cover : {0.0, 1.5, std::nan("")}) {
+    LayerStack bad = s;
+    bad.layers[1].cover(0) = cover;
+    EXPECT_THROW(laminate(bad), UserError) << cover;
+  }
   s.layers[1].lambda2.resize(1);
   EXPECT_THROW(laminate(s), UserError);
 }
@@ -349,8 +397,8 @@ TEST(Laminate, BadInputsAreUserErrors) {
 // The thinnest and thickest face: the sum over the layers that cover each face.
 TEST(LayerStack, PrintedThicknessRangeSumsTheLayersCoveringEachFace) {
   const Material m = paper_material();
-  LayerStack s = shrink_morph_layer_stack(Eigen::VectorXd::Zero(3), Eigen::VectorXd::Zero(3), m,
-                                          4, 0.1);
+  LayerStack s =
+      shrink_morph_layer_stack(Eigen::VectorXd::Zero(3), Eigen::VectorXd::Zero(3), m, 4, 0.1);
   s.layers[3].material(1) = Layer::kNotCovered;  // face 1 lacks the top layer
   s.layers[2].printed_thickness(2) = 0.3;        // face 2 has a thicker third layer
   const auto [thinnest, thickest] = printed_thickness_range(s);

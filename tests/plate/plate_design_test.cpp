@@ -46,6 +46,7 @@ PlateDesign two_material_design() {
       l.printed_thickness(3) = 0.12;
       l.material(5) = Layer::kNotCovered;
       l.lambda1(1) = 0.6;
+      l.cover(2) = 1.0 / 3.0;
     }
     d.stack.layers.push_back(l);
   }
@@ -69,6 +70,7 @@ void expect_same_stack(const LayerStack& a, const LayerStack& b) {
     EXPECT_EQ(x.delta_lambda1, y.delta_lambda1) << k;
     EXPECT_EQ(x.lambda2, y.lambda2) << k;
     EXPECT_EQ(x.lambda3, y.lambda3) << k;
+    EXPECT_EQ(x.cover, y.cover) << k;
   }
 }
 
@@ -91,6 +93,7 @@ TEST(PlateDesignFile, ReadsBackBitForBit) {
   // design fields.
   const std::string stack = testing::read_file(dir / "flat.stack.json");
   EXPECT_NE(stack.find("\"layer_3_thickness\""), std::string::npos);
+  EXPECT_NE(stack.find("\"layer_3_cover\""), std::string::npos);
   EXPECT_EQ(stack.find("\"layer_1_thickness\""), std::string::npos);
   EXPECT_EQ(back.design.design_fields.find_face("layer_1_theta"), nullptr);
   // Same design, same bytes.
@@ -170,6 +173,8 @@ TEST(PlateDesignFile, TheFuzzSeedIsAValidStack) {
   ASSERT_EQ(file.design.stack.num_layers(), 2);
   EXPECT_EQ(file.design.stack.materials[1].name, "tpu");
   EXPECT_EQ(file.design.stack.layers[1].theta(1), -0.25);
+  // Written before layers had a cover: solid.
+  EXPECT_EQ(file.design.stack.layers[1].cover, Eigen::Vector2d(1, 1));
 }
 
 // Issue 20's acceptance: the run's stack, not the defaults, decides what is printed and simulated.

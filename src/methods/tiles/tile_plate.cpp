@@ -101,10 +101,11 @@ TilePlate tile_plate(const SheetMesh& mesh, const std::vector<TileOutline>& outl
           layer.material(f) = Layer::kNotCovered;
           continue;
         }
-        // Two families of lines, alternating by layer; their stiffness spread over the area.
+        // Two families of lines, alternating by layer, each covering its share of the area.
         const Material& lm = lattice->material;
         layer.material(f) = lattice_tool;
-        layer.printed_thickness(f) = lattice->layer_height * lattice->fill;
+        layer.printed_thickness(f) = lattice->layer_height;
+        layer.cover(f) = lattice->fill;
         layer.theta(f) = (k % 2) * std::numbers::pi / 2;
         layer.lambda1(f) = lattice_lambda1;
         layer.lambda2(f) = lm.lambda2;

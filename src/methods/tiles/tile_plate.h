@@ -1,9 +1,9 @@
 // The printed sheet of Geodesy tiles as the shared simulator reads it (notes §7.2): a triangle mesh
 // conforming to every tile (sheet_mesh.h), and per face the layers its ring prints: the ring
 // tangent as the deposition direction, the bilayer's layer heights and counts (tile_levels.h),
-// λ1 from the thickness curve at each layer height. Faces of the lattice print its lines, seen as
-// a thinner plate of the lattice's material (its lines cover `fill` of the area). Millimetres and
-// radians.
+// λ1 from the thickness curve at each layer height. Faces of the lattice print its lines: layers
+// of the lattice's material at their full height covering `fill` of the area (Layer::cover).
+// Millimetres and radians.
 #pragma once
 
 #include <Eigen/Core>
