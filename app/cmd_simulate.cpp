@@ -34,6 +34,7 @@ struct SimulateOptions {
   std::optional<std::string> printer;
   std::optional<std::string> plate_mesh;
   double resolution_mm = 1.0;
+  double min_cover = DepositedPlateOptions{}.min_coverage;
   std::string from = "flat";
   std::string target_path;
   std::string output;
@@ -128,6 +129,13 @@ int run_simulate_gcode(const SimulateOptions& o, const GlobalOptions& global) {
                     fmt::format("--resolution {}: give the plate mesh's edge length in mm (e.g. 1)",
                                 o.resolution_mm));
   }
+  if (!(o.min_cover > 0 && o.min_cover <= 1)) {
+    throw UserError(ErrorCategory::kOption,
+                    fmt::format("--min-cover {}: give the share of a face, in (0, 1], a layer's "
+                                "beads must cover for the layer to count there (e.g. 0.25; a "
+                                "lattice of lines w wide every s mm: w / (2 s))",
+                                o.min_cover));
+  }
   if (!o.target_path.empty() && !o.plate_mesh) {
     throw UserError(
         ErrorCategory::kOption,
@@ -144,6 +152,7 @@ int run_simulate_gcode(const SimulateOptions& o, const GlobalOptions& global) {
     options.read.filament_diameter = printer.filament_diameter;
   }
   options.deposit.resolution_mm = o.resolution_mm;
+  options.deposit.min_coverage = o.min_cover;
   Mesh plate_mesh;
   if (o.plate_mesh) {
     plate_mesh = read_mesh(*o.plate_mesh).mesh;
@@ -183,7 +192,10 @@ int run_simulate_gcode(const SimulateOptions& o, const GlobalOptions& global) {
                      : fmt::format("the first layer's footprint at {} mm", o.resolution_mm),
         plate.plate.rows(), plate.F.rows(),
         p.plate.removed_faces > 0
-            ? fmt::format(", {} faces the file does not print left out", p.plate.removed_faces)
+            ? fmt::format(", {} faces the file does not print left out{}", p.plate.removed_faces,
+                          o.plate_mesh && p.plate.removed_faces > plate.F.rows()
+                              ? " (a sparse lattice? lower --min-cover)"
+                              : "")
             : std::string(),
         describe_stack(plate.stack), materials_from);
     if (o.plate_mesh) {
@@ -236,6 +248,7 @@ int run_simulate_gcode(const SimulateOptions& o, const GlobalOptions& global) {
   parameters["input"] = o.plate_path;
   parameters["plate"] = o.plate_mesh ? *o.plate_mesh : std::string("footprint");
   parameters["resolution_mm"] = o.resolution_mm;
+  parameters["min_cover"] = o.min_cover;
   nlohmann::ordered_json names = nlohmann::ordered_json::array();
   for (const Material& m : materials) names.push_back(m.name);
   parameters["materials"] = names;
@@ -346,6 +359,11 @@ Command make_simulate_command(CLI::App& app, const GlobalOptions& global) {
                   "the first layer's footprint");
   sub->add_option("--resolution", o->resolution_mm,
                   "G-code only: edge length (mm) of the plate mesh built from the footprint")
+      ->capture_default_str();
+  sub->add_option("--min-cover", o->min_cover,
+                  "G-code only: the share of a face a layer's beads must cover for the layer to "
+                  "count there (less is stray material); lower it for sparse prints, e.g. w / (2 "
+                  "s) for a lattice of lines w wide every s mm")
       ->capture_default_str();
   add_plate_input_options(sub, o->plate_input);
   sub->add_option("--from", o->from,

@@ -159,6 +159,13 @@ TEST(CliSimulate, HostileGcodeGivesOneLineAndExit2) {
   }
   // --target is compared vertex by vertex, so it needs the plate it was designed on.
   write_text(dir / "strip.gcode", good);
+  for (const char* cover : {"0", "1.5", "nan"}) {
+    const auto bad = run_cli({"simulate", (dir / "strip.gcode").string(), "--min-cover", cover,
+                              "-o", (dir / "x.ply").string()});
+    EXPECT_EQ(bad.exit_code, 2) << cover;
+    EXPECT_NE(bad.err.find("--min-cover"), std::string::npos) << bad.err;
+    EXPECT_FALSE(fs::exists(dir / "x.ply")) << cover;
+  }
   const auto r = run_cli({"simulate", (dir / "strip.gcode").string(), "--target",
                           (dir / "t.ply").string(), "-o", (dir / "x.ply").string()});
   EXPECT_EQ(r.exit_code, 2);
