@@ -9,6 +9,7 @@
 #include <cmath>
 
 #include "common/error.h"
+#include "mesh/polygon.h"
 #include "plate/laminate.h"
 
 namespace flatmorph {
@@ -52,22 +53,13 @@ double interpolate(const Eigen::VectorXd& x, const Eigen::VectorXd& y, double at
   return y(i) + t * (y(i + 1) - y(i));
 }
 
-double polygon_area(const Eigen::MatrixX2d& p) {
-  double twice = 0;
-  for (Eigen::Index i = 0; i < p.rows(); ++i) {
-    const Eigen::Index k = (i + 1) % p.rows();
-    twice += p(i, 0) * p(k, 1) - p(k, 0) * p(i, 1);
-  }
-  return std::abs(twice) / 2;
-}
-
 // 1 mm, or the edge at which the refined mesh has about 8000 faces (CGAL's 25° criterion gives
 // about one face per 0.2 e² of sheet): the simulation's cost grows with the faces.
 double automatic_mesh_edge(const std::vector<TileOutline>& regions) {
   double area = 0;
   for (const TileOutline& region : regions) {
-    area += polygon_area(region.boundary);
-    for (const Eigen::MatrixX2d& hole : region.holes) area -= polygon_area(hole);
+    area += std::abs(signed_area(region.boundary));
+    for (const Eigen::MatrixX2d& hole : region.holes) area -= std::abs(signed_area(hole));
   }
   return std::max(1.0, std::sqrt(area / (0.2 * 8000)));
 }

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "common/error.h"
+#include "mesh/polygon.h"
 
 namespace flatmorph {
 namespace {
@@ -55,15 +56,6 @@ TileOutline square_tile(double x0, double y0, double x1, double y1, const char* 
   t.boundary = rectangle(x0, y0, x1, y1);
   t.source = source;
   return t;
-}
-
-double polygon_area(const Eigen::MatrixX2d& m) {
-  double twice = 0;
-  for (Eigen::Index i = 0; i < m.rows(); ++i) {
-    const Eigen::Index j = (i + 1) % m.rows();
-    twice += m(i, 0) * m(j, 1) - m(i, 1) * m(j, 0);
-  }
-  return twice / 2;
 }
 
 TileOutline rotated(const TileOutline& t, double angle) {
@@ -160,7 +152,7 @@ TEST(SheetMesh, DiscIsCoveredByQualityTrianglesOfBoundedSize) {
   const TileOutline disc = polygon(64, 15);
   const SheetMesh m = sheet_mesh({disc}, {});
   const Stats s = stats(m);
-  EXPECT_NEAR(s.area, polygon_area(disc.boundary), 1e-9 * polygon_area(disc.boundary));
+  EXPECT_NEAR(s.area, signed_area(disc.boundary), 1e-9 * signed_area(disc.boundary));
   EXPECT_GT(s.min_face_area, 0);  // all counter-clockwise
   EXPECT_GE(s.min_angle_deg, 20.0);
   EXPECT_LE(s.max_edge, 1.0 * (1 + 1e-9));
@@ -243,7 +235,7 @@ TEST(SheetMesh, LatticeAroundATileCoversTheUnion) {
   TileOutline tile = polygon(8, 5, kPi / 8, "tile");
   const SheetMesh m = sheet_mesh({lattice, tile}, {});
   const Stats s = stats(m);
-  const double tile_area = polygon_area(tile.boundary);
+  const double tile_area = signed_area(tile.boundary);
   EXPECT_NEAR(s.area, 400.0, 1e-9 * 400);
   EXPECT_NEAR(s.region_area.at(1), tile_area, 1e-9 * tile_area);
   EXPECT_NEAR(s.boundary_length, 80.0, 1e-9);  // the hole's edges are all shared

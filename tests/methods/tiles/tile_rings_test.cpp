@@ -12,6 +12,7 @@
 #include <string>
 
 #include "common/error.h"
+#include "mesh/polygon.h"
 
 namespace flatmorph {
 namespace {
@@ -67,15 +68,6 @@ TileOutline dumbbell() {
 
 TileOutline l_shape() {
   return outline_of(polygon({{0, 0}, {12, 0}, {12, 5}, {5, 5}, {5, 12}, {0, 12}}));
-}
-
-double signed_area(const Eigen::MatrixX2d& loop) {
-  double twice = 0;
-  for (Eigen::Index i = 0; i < loop.rows(); ++i) {
-    const Eigen::Index j = (i + 1) % loop.rows();
-    twice += loop(i, 0) * loop(j, 1) - loop(j, 0) * loop(i, 1);
-  }
-  return twice / 2;
 }
 
 double closed_length(const Eigen::MatrixX2d& loop) {
