@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "common/error.h"
+#include "mesh/convex_hull.h"
 
 namespace flatmorph {
 namespace {
@@ -32,30 +33,6 @@ Eigen::MatrixX2d to_points(const cl::Path& path) {
   return points;
 }
 
-// Andrew's monotone chain, counter-clockwise.
-Eigen::MatrixX2d convex_hull(std::vector<Eigen::Vector2d> points) {
-  std::sort(points.begin(), points.end(), [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-    return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
-  });
-  auto cross = [](const Eigen::Vector2d& o, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-    return (a - o).x() * (b - o).y() - (a - o).y() * (b - o).x();
-  };
-  std::vector<Eigen::Vector2d> hull(2 * points.size());
-  size_t k = 0;
-  for (size_t i = 0; i < points.size(); ++i) {
-    while (k >= 2 && cross(hull[k - 2], hull[k - 1], points[i]) <= 0) --k;
-    hull[k++] = points[i];
-  }
-  for (size_t i = points.size() - 1, lower = k + 1; i > 0; --i) {
-    while (k >= lower && cross(hull[k - 2], hull[k - 1], points[i - 1]) <= 0) --k;
-    hull[k++] = points[i - 1];
-  }
-  hull.resize(k > 0 ? k - 1 : 0);
-  Eigen::MatrixX2d out(hull.size(), 2);
-  for (size_t i = 0; i < hull.size(); ++i) out.row(static_cast<Eigen::Index>(i)) = hull[i];
-  return out;
-}
-
 cl::Paths offset(const cl::Paths& paths, double delta_mm) {
   cl::ClipperOffset offsetter;
   offsetter.ArcTolerance = 0.01 * kScale;
@@ -76,12 +53,11 @@ TileLattice tile_lattice(const std::vector<TileOutline>& tiles, const LatticeSpe
                                 spec.spacing_mm, pitch, pitch));
   }
   cl::Paths tile_paths;
-  std::vector<Eigen::Vector2d> all_points;
+  Eigen::MatrixX2d all_points(0, 2);
   for (const TileOutline& tile : tiles) {
     tile_paths.push_back(to_path(tile.boundary));
-    for (Eigen::Index i = 0; i < tile.boundary.rows(); ++i) {
-      all_points.push_back(tile.boundary.row(i).transpose());
-    }
+    all_points.conservativeResize(all_points.rows() + tile.boundary.rows(), 2);
+    all_points.bottomRows(tile.boundary.rows()) = tile.boundary;
   }
   cl::Paths sheet;
   if (spec.outline.rows() >= 3) {
