@@ -1,5 +1,7 @@
 #include "common/error.h"
 
+#include <fmt/core.h>
+
 namespace flatmorph {
 
 std::string_view to_string(ErrorCategory category) {
@@ -14,6 +16,19 @@ std::string_view to_string(ErrorCategory category) {
     case ErrorCategory::kResource: return "resource";
   }
   return "unknown";
+}
+
+std::string printable(std::string_view text) {
+  std::string out;
+  for (size_t i = 0; i < text.size() && i < 32; ++i) {
+    const auto c = static_cast<unsigned char>(text[i]);
+    if (c >= 32 && c < 127) {
+      out += static_cast<char>(c);
+    } else {
+      out += fmt::format("\\x{:02x}", c);
+    }
+  }
+  return text.size() > 32 ? out + "..." : out;
 }
 
 }  // namespace flatmorph

@@ -27,6 +27,10 @@ enum class ErrorCategory {
 
 std::string_view to_string(ErrorCategory category);
 
+// Text from a user's file quoted in a message: at most 32 characters, bytes other than printable
+// ASCII as \xNN.
+std::string printable(std::string_view text);
+
 class UserError : public std::runtime_error {
  public:
   UserError(ErrorCategory category, const std::string& message)

@@ -440,19 +440,6 @@ Eigen::MatrixX2d to_matrix(const std::vector<Point>& points, bool counter_clockw
 
 }  // namespace
 
-std::string printable(std::string_view text) {
-  std::string out;
-  for (size_t i = 0; i < text.size() && i < 32; ++i) {
-    const auto c = static_cast<unsigned char>(text[i]);
-    if (c >= 32 && c < 127) {
-      out += static_cast<char>(c);
-    } else {
-      out += fmt::format("\\x{:02x}", c);
-    }
-  }
-  return text.size() > 32 ? out + "..." : out;
-}
-
 std::string where(const std::string& file, long long line) {
   return fmt::format("{}:{}", file, line);
 }

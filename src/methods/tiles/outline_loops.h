@@ -11,6 +11,7 @@
 #include <string_view>
 #include <vector>
 
+#include "common/error.h"
 #include "methods/tiles/tile_outline.h"
 
 namespace flatmorph {
@@ -66,8 +67,7 @@ struct EllipseArc {
   double sweep = 0;
 };
 
-// Text from a file for a message: at most 32 characters, bytes other than printable ASCII as \xNN.
-std::string printable(std::string_view text);
+using ::flatmorph::printable;  // common/error.h
 
 // "file:line", the start of every message about one entity or element.
 std::string where(const std::string& file, long long line);
