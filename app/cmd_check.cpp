@@ -60,10 +60,11 @@ int run_check(const CheckOptions& options, const GlobalOptions& global) {
     if (!materials.empty()) source = "the file's header";
   }
   if (materials.empty()) materials = run_materials(options.file, source);
-  if (materials.size() > static_cast<size_t>(printer->extruder_count)) {
+  // A printer that swaps filament by hand prints every tool's material through its one nozzle.
+  if (materials.size() > static_cast<size_t>(printer->extruder_count) && !printer->filament_swap) {
     throw UserError(ErrorCategory::kOption,
-                    fmt::format("--material names {} materials but {} has {} tool(s): give one "
-                                "material per tool",
+                    fmt::format("--material names {} materials but {} has {} tool(s) and no "
+                                "filament_swap: give one material per tool",
                                 materials.size(), printer->name, printer->extruder_count));
   }
   std::string material_names;
@@ -110,7 +111,8 @@ Command make_check_command(CLI::App& app, const GlobalOptions& global) {
                   "flat.stack.json beside it, else pla-paper); on a "
                   "printer "
                   "with several tools, one per tool, comma-separated in tool order (T0,T1,...: "
-                  "pla-paper,tpu-generic). Each tool's temperatures and extrusion are checked "
+                  "pla-paper,tpu-generic; also on a printer with one nozzle that swaps filament "
+                  "by hand). Each tool's temperatures and extrusion are checked "
                   "against its own material, the bed against the lowest maximum; a tool the file "
                   "heats or extrudes with but has no material is a violation");
   return {sub, [options, &global] { return run_check(*options, global); }};

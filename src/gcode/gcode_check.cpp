@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <charconv>
 #include <cmath>
 #include <cstdlib>
 #include <map>
@@ -18,6 +19,8 @@ namespace flatmorph {
 namespace {
 
 constexpr double kEpsilon = 1e-6;  // mm of filament or head motion treated as none
+// Written by the G-code writer where a one-nozzle printer pauses for a manual filament swap.
+constexpr std::string_view kSwapAnnotation = ";FILAMENT_SWAP:T";
 
 class Checker {
  public:
@@ -38,7 +41,9 @@ class Checker {
       size_t end = text.find('\n', begin);
       if (end == std::string_view::npos) end = text.size();
       line_ = ++number;
-      process(strip(text.substr(begin, end - begin), buffer));
+      const std::string_view raw = text.substr(begin, end - begin);
+      if (trim(raw).starts_with(kSwapAnnotation)) swap_filament(trim(raw));
+      process(strip(raw, buffer));
       begin = end + 1;
     }
     line_ = std::max(number, 1);
@@ -53,6 +58,38 @@ class Checker {
   }
 
   bool relative_e() const { return relative_e_; }
+
+  // ";FILAMENT_SWAP:T<n>": from here on tool n's material is in the one nozzle, and the nozzle
+  // must wait (M109) before it extrudes. Tool changers say T<n> instead.
+  void swap_filament(std::string_view annotation) {
+    if (printer_.extruder_count > 1) return;
+    const std::string_view digits = annotation.substr(kSwapAnnotation.size());
+    int tool = 0;
+    const auto [end, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), tool);
+    if (ec != std::errc() || end != digits.data() + digits.size() || tool < 0) {
+      flag(ViolationKind::kMalformed,
+           fmt::format("\"{}\": expected {}<tool number>", annotation, kSwapAnnotation));
+      return;
+    }
+    if (static_cast<size_t>(tool) >= materials_.size()) {
+      if (reported_tools_.insert(tool).second) {
+        flag(ViolationKind::kToolWithoutMaterial,
+             fmt::format("a filament swap loads T{}'s material but no material was given for it "
+                         "({} material(s), for T0 to T{}): give one material per tool",
+                         tool, materials_.size(), materials_.size() - 1));
+      }
+      return;
+    }
+    loaded_ = tool;
+    swapped_ = true;
+    swap_line_ = line_;
+  }
+
+  // The material whose filament `tool` prints: its own, or on a printer with one extruder, the
+  // one the last filament swap loaded.
+  const Material& material_of(int tool) const {
+    return material(printer_.extruder_count == 1 ? loaded_ : tool);
+  }
 
   void process(std::string_view line) {
     if (line.empty()) return;
@@ -101,7 +138,10 @@ class Checker {
     } else if (n == "M104" || n == "M109") {
       if (!check_numbers(cmd, line, "STR")) return;
       const int tool = cmd.has('T') ? tool_number(*cmd.get('T')) : tool_;
-      if (const auto t = cmd.has('S') ? cmd.get('S') : cmd.get('R')) set_nozzle(tool, *t);
+      if (const auto t = cmd.has('S') ? cmd.get('S') : cmd.get('R')) {
+        set_nozzle(tool, *t);
+        if (n == "M109") swap_line_.reset();
+      }
     } else if (n == "G10" && cmd.has('P')) {
       // RepRapFirmware: G10 P<tool> S<active> R<standby> sets a tool's temperatures.
       if (!check_numbers(cmd, line, "PSR")) return;
@@ -198,7 +238,7 @@ class Checker {
     nozzle_[heater(tool)] = target;
     // Turning a heater off needs no material.
     if (target <= 0 || !known_tool(tool, "heats")) return;
-    const Material& m = material(tool);
+    const Material& m = material_of(tool);
     if (target > m.max_nozzle_temperature) {
       flag(ViolationKind::kNozzleTemperature,
            fmt::format("nozzle (T{}) set to {:g} C, above {:g} C, the most the material {} allows",
@@ -295,9 +335,16 @@ class Checker {
 
   void check_extrusion(double extruded, const std::optional<double>& length) {
     const auto target = nozzle_.find(heater(tool_));
-    if (known_tool(tool_, "extrudes with") && target != nozzle_.end()) {
-      const Material& m = material(tool_);
-      if (target->second < m.min_nozzle_temperature) {
+    if (known_tool(tool_, "extrudes with")) {
+      const Material& m = material_of(tool_);
+      if (swap_line_) {
+        flag(ViolationKind::kSwapTemperature,
+             fmt::format("extrudes {} after the filament swap of line {} without waiting for the "
+                         "nozzle since: wait for its temperature with M109 S{:g} after the swap",
+                         m.name, *swap_line_, m.nozzle_temperature));
+        swap_line_.reset();
+      }
+      if (target != nozzle_.end() && target->second < m.min_nozzle_temperature) {
         flag(ViolationKind::kColdExtrusion,
              fmt::format("extrudes while the nozzle (T{}) is set to {:g} C, below {:g} C, the "
                          "least the material {} needs",
@@ -305,13 +352,15 @@ class Checker {
       }
       // A shared nozzle keeps the temperature the previous filament was set to; said once per
       // filament and temperature.
-      if (printer_.tool_change.shared_nozzle && target->second > m.max_nozzle_temperature &&
-          reported_hot_.insert({tool_, target->second}).second) {
+      const int filament = printer_.extruder_count == 1 ? loaded_ : tool_;
+      if (target != nozzle_.end() && (printer_.tool_change.shared_nozzle || swapped_) &&
+          target->second > m.max_nozzle_temperature &&
+          reported_hot_.insert({filament, target->second}).second) {
         flag(ViolationKind::kNozzleTemperature,
              fmt::format("extrudes T{} through the shared nozzle set to {:g} C, above {:g} C, the "
                          "most the material {} allows: set the nozzle to its temperature after "
                          "the change",
-                         tool_, target->second, m.max_nozzle_temperature, m.name));
+                         filament, target->second, m.max_nozzle_temperature, m.name));
       }
     }
     if (length && *length > kEpsilon) {
@@ -430,6 +479,11 @@ class Checker {
   // Filament pulled back and not yet pushed again (mm), per tool: each has its own filament.
   std::map<int, double> retracted_;
   int tool_ = 0;
+  // One extruder: the tool whose material the last filament swap loaded (T0's at the start), and
+  // the line of that swap while no M109 has followed it.
+  int loaded_ = 0;
+  bool swapped_ = false;
+  std::optional<int> swap_line_;
   std::set<int> reported_tools_;                   // tools flagged as unknown or without a material
   std::map<int, double> nozzle_;                   // targets set so far, per heater (heater())
   std::set<std::pair<int, double>> reported_hot_;  // tools and temperatures flagged as too hot
@@ -476,6 +530,8 @@ std::string_view to_string(ViolationKind kind) {
       return "unknown-tool";
     case ViolationKind::kToolWithoutMaterial:
       return "tool-without-material";
+    case ViolationKind::kSwapTemperature:
+      return "swap-temperature";
   }
   return "unknown";
 }

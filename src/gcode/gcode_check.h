@@ -32,6 +32,7 @@ enum class ViolationKind {
   kMotorsOnAtEnd,         // no M84/M18 after the last move
   kUnknownTool,           // a tool selected, heated or used that the printer lacks
   kToolWithoutMaterial,   // a tool heated or used that no material was given for
+  kSwapTemperature,       // extrusion after a filament swap without waiting (M109) since it
 };
 
 // "outside-bed", "cold-extrusion", ...: the names `flatmorph check` prints and the unsafe test
@@ -58,7 +59,10 @@ constexpr double kEBackwardsSlack = 1.0;
 // material of tool t (T0 first, at least one): the check follows T commands and judges each tool's
 // temperatures and extrusion by its own material; the shared bed by the least of their maxima. On
 // a shared nozzle (ToolChange::shared_nozzle) the tools have one heater: each tool's extrusion is
-// judged against the one target, which must lie within that tool's material's range.
+// judged against the one target, which must lie within that tool's material's range. On a printer
+// with one extruder, the annotation ";FILAMENT_SWAP:T<n>" (the writer's FilamentSwap) says that
+// tool n's material is loaded from there on: it is judged the same way, and must not extrude
+// before an M109 has waited for the nozzle after the swap.
 std::vector<GcodeViolation> check_gcode(std::string_view text, const PrinterProfile& printer,
                                         const std::vector<Material>& tool_materials,
                                         size_t max_violations = 1000);

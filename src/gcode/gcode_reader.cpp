@@ -557,6 +557,18 @@ class Reader {
     } else if (starts_with(c, "Z:") || starts_with(c, "Z_HEIGHT:")) {
       const double z = annotation(c, "layer z");
       if (layers_ > 0) layer_tag_z_.back() = z;
+    } else if (starts_with(c, "FILAMENT_SWAP:T")) {
+      // flatmorph's manual swap on one nozzle: tool n's material prints from here, through the
+      // nozzle as the pause left it (the firmware restores E after a pause).
+      const std::string_view digits = c.substr(15);
+      int next = -1;
+      const auto [end, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), next);
+      if (ec == std::errc() && end == digits.data() + digits.size() && next >= 0 &&
+          next < kFirstSpecialTool && next != tool_) {
+        const ToolState state = tool_state();
+        tool_ = next;
+        tool_state() = state;
+      }
     } else if (starts_with(c, "TARGET_MACHINE.NAME:") || starts_with(c, "MACHINE_NAME:")) {
       set_printer(3, trim(c.substr(c.find(':') + 1)));
     } else if (const size_t eq = c.find(" = "); eq != std::string_view::npos) {

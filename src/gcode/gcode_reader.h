@@ -6,8 +6,9 @@
 // The reader follows the firmware (Marlin 2): M82/M83 and G90/G91 (which set the E mode too, until
 // the next M82/M83), G92, G0–G3 (a G0 that extrudes deposits like a G1; arcs in the XY plane, with
 // I/J or R, full circles, helical z; P, Marlin's optional extra turns, is not read), T<n>,
-// G10/G11. It needs no annotation; the ones it reads are listed with the rules below and in
-// docs/gcode.md "Reading G-code".
+// G10/G11, and flatmorph's ";FILAMENT_SWAP:T<n>" (a manual swap on one nozzle: tool n's material
+// prints from there, which is not counted as a tool change). It needs no annotation; the ones it
+// reads are listed with the rules below and in docs/gcode.md "Reading G-code".
 //
 // Deposits. A bead is a move that pushes filament forward while the head moves in x and y. A move
 // that pulls filament back (or G10) is a retraction, also when it moves (a wipe): nothing is

@@ -90,10 +90,12 @@ void validate_toolpath(const Toolpath& toolpath, const PrinterProfile& printer,
               fmt::format("make_gcode: a segment of layer {} has width {}, height {}, feed rate {}",
                           k + 1, s.width, s.layer_height, s.feed_rate));
         }
-        if (s.tool < 0 || s.tool >= printer.extruder_count) {
+        // A filament swap prints every tool's material through the one nozzle.
+        if (s.tool < 0 || (s.tool >= printer.extruder_count && !printer.filament_swap)) {
           throw UserError(ErrorCategory::kInfeasible,
                           fmt::format("the toolpath uses tool T{} but the printer {} has {} "
-                                      "extruder(s): choose a printer with more tools",
+                                      "extruder(s): choose a printer with more tools, or one "
+                                      "whose profile has a filament_swap (docs/gcode.md)",
                                       s.tool, printer.name, printer.extruder_count));
         }
         if (static_cast<size_t>(s.tool) >= tool_materials.size()) {
@@ -196,6 +198,10 @@ class Emitter {
         extruded_(tool_materials.size(), 0.0),
         retracted_(static_cast<size_t>(printer.extruder_count), false) {}
 
+  // The filament a tool prints with, as the firmware sees it: its own, or on a printer that swaps
+  // by hand, the one in the nozzle (the pause leaves E as it was).
+  size_t filament(int tool) const { return printer_.filament_swap ? 0 : static_cast<size_t>(tool); }
+
   std::string& out() { return out_; }
   std::vector<Motion>& motions() { return motions_; }
   // mm of filament per tool.
@@ -265,6 +271,10 @@ class Emitter {
   void change_tool(int tool, const Eigen::Vector3d& start) {
     if (tool == tool_) return;
     retract();
+    if (printer_.filament_swap) {
+      swap_filament(tool);
+      return;
+    }
     const ToolChange& change = printer_.tool_change;
     const Material& from = materials_[static_cast<size_t>(tool_)];
     const Material& to = materials_[static_cast<size_t>(tool)];
@@ -300,12 +310,63 @@ class Emitter {
       retracted_[static_cast<size_t>(tool)] =
           printer_.firmware_retraction || printer_.retract_length > 0;
     }
-    // The template's own E moves (a prime) say nothing about the print's E register. It restarts
-    // at 0 with the filament of the next tool where that tool left it: E moves retract, so a tool
-    // parked retracted stands one retraction below its unretracted register.
+    after_change(to);
+    if (pad_) prime(to);
+  }
+
+  // One nozzle: the print pauses and the user swaps the filament by hand (FilamentSwap). Above the
+  // print, with the message on the screen, the nozzle waits at a temperature both filaments take
+  // (the old one unloads, the new one purges), the firmware pauses, then the nozzle takes the next
+  // material's own temperature. The annotation ;FILAMENT_SWAP:T<n> tells the check and the
+  // readers whose material prints from there on.
+  void swap_filament(int tool) {
+    const FilamentSwap& swap = *printer_.filament_swap;
+    const Material& from = materials_[static_cast<size_t>(tool_)];
+    const Material& to = materials_[static_cast<size_t>(tool)];
+    const double hot = swap_temperature(from, to);
+    const std::vector<std::pair<std::string, std::string>> values = {
+        {"message", fmt::format("Load {} (T{})", to.name, tool)},
+        {"previous_tool", std::to_string(tool_)},
+        {"next_tool", std::to_string(tool)},
+        {"previous_material", from.name},
+        {"next_material", to.name},
+        {"previous_temperature", fmt::format("{:.0f}", from.nozzle_temperature)},
+        {"next_temperature", fmt::format("{:.0f}", to.nozzle_temperature)},
+        {"swap_temperature", fmt::format("{:.0f}", hot)},
+        {"safe_z", fixed(safe_z() / kXyzUnits, 3)},
+    };
+    const std::string source = fmt::format("printer {}: filament_swap", printer_.name);
+    out_ += fmt::format(
+        "; ---- filament swap T{} -> T{}: {} out, {} in (filament_swap of the printer profile)\n",
+        tool_, tool, from.name, to.name);
+    out_ += fmt::format(";FILAMENT_SWAP:T{}\n", tool);
+    move_z(known_ ? std::max(pos_.z(), safe_z()) : safe_z());
+    line(expand_gcode_template(swap.message, values, source + ".message",
+                               filament_swap_placeholders()));
+    line(fmt::format("M109 S{:.0f} ; wait: {} unloads and {} purges at this", hot, from.name,
+                     to.name));
+    out_ +=
+        expand_gcode_template(swap.gcode, values, source + ".gcode", filament_swap_placeholders());
+    if (!out_.empty() && out_.back() != '\n') out_ += '\n';
+    if (to.nozzle_temperature != hot) {
+      // Marlin's M109 S waits only for heating; R waits for cooling too (Klipper's S does both).
+      const bool cooling = to.nozzle_temperature < hot;
+      const char* wait = cooling && printer_.flavor == GcodeFlavor::kMarlin ? "R" : "S";
+      line(fmt::format("M109 {}{:.0f} ; {}'s own temperature, wait", wait, to.nozzle_temperature,
+                       to.name));
+    }
+    tool_ = tool;
+    after_change(to);
+  }
+
+  // After a tool change or a swap, with `to` the next tool's material. The template's own E moves
+  // (a prime) say nothing about the print's E register. It restarts at 0 with the filament of the
+  // next tool where that tool left it: E moves retract, so a tool parked retracted stands one
+  // retraction below its unretracted register. The head's position counts as unknown.
+  void after_change(const Material& to) {
     line("G92 E0");
     e_units_ = 0;
-    e_exact_ = retracted_[static_cast<size_t>(tool)] && !printer_.firmware_retraction
+    e_exact_ = retracted_[filament(tool_)] && !printer_.firmware_retraction
                    ? static_cast<double>(std::llround(printer_.retract_length * kEUnits)) / kEUnits
                    : 0.0;
     ++tool_changes_;
@@ -313,11 +374,10 @@ class Emitter {
     feed_ = -1;  // the template may have set its own F
     // Said at every change: on tool changers each tool may have its own part-cooling fan.
     line(fan_command(printer_.flavor, first_of_section_ ? to.first_layer_fan_speed : to.fan_speed));
-    if (pad_) prime(to);
   }
 
   void retract() {
-    if (retracted_[static_cast<size_t>(tool_)] ||
+    if (retracted_[filament(tool_)] ||
         (printer_.retract_length <= 0 && !printer_.firmware_retraction)) {
       return;
     }
@@ -328,7 +388,7 @@ class Emitter {
              " ; retract");
     }
     motions_.push_back({Eigen::Vector3d::Zero(), -printer_.retract_length, printer_.retract_speed});
-    retracted_[static_cast<size_t>(tool_)] = true;
+    retracted_[filament(tool_)] = true;
   }
 
   // Retracts and lifts the nozzle to `z` (mm) where it stands, if it is lower: before heating for
@@ -341,7 +401,7 @@ class Emitter {
   }
 
   void unretract() {
-    if (!retracted_[static_cast<size_t>(tool_)]) return;
+    if (!retracted_[filament(tool_)]) return;
     if (printer_.firmware_retraction) {
       line("G11 ; unretract (firmware)");
     } else {
@@ -349,7 +409,7 @@ class Emitter {
              " ; unretract");
     }
     motions_.push_back({Eigen::Vector3d::Zero(), printer_.retract_length, printer_.retract_speed});
-    retracted_[static_cast<size_t>(tool_)] = false;
+    retracted_[filament(tool_)] = false;
   }
 
  private:
@@ -743,7 +803,26 @@ std::string header(const PrinterProfile& printer, const std::vector<Material>& t
                   printer.cornering == CorneringModel::kJerk
                       ? fmt::format("jerk {:g} mm/s", printer.jerk)
                       : fmt::format("junction deviation {:g} mm", printer.junction_deviation)));
-  if (!one) {
+  if (!one && printer.filament_swap) {
+    // The materials in the order the pauses ask for them, as the writer changes tools.
+    std::string order;
+    int tool = 0;
+    for (const ToolpathLayer& layer : toolpath.layers) {
+      for (const PathPolyline& path : layer.paths) {
+        for (const SegmentStyle& s : path.segments) {
+          if (s.travel || s.tool == tool) continue;
+          tool = s.tool;
+          order += fmt::format(", T{} {}", tool, tool_materials[static_cast<size_t>(tool)].name);
+        }
+      }
+    }
+    add(
+        fmt::format("filament_swaps = {} (the printer pauses for each: filament_swap of the "
+                    "printer profile; load T0's material {} before starting, then{}; their time "
+                    "is not in the estimate)",
+                    result.tool_changes, tool_materials.front().name,
+                    order.empty() ? " nothing else" : order.substr(1)));
+  } else if (!one) {
     const ToolChange& change = printer.tool_change;
     std::string how =
         change.shared_nozzle
@@ -874,10 +953,12 @@ GcodeResult make_gcode(const Toolpath& toolpath, const PrinterProfile& printer,
   if (tool_materials.empty()) {
     throw UserError(ErrorCategory::kOption, "no material given: give one material per tool");
   }
-  if (tool_materials.size() > static_cast<size_t>(printer.extruder_count)) {
+  if (tool_materials.size() > static_cast<size_t>(printer.extruder_count) &&
+      !printer.filament_swap) {
     throw UserError(ErrorCategory::kOption,
                     fmt::format("{} materials given but the printer {} has {} tool(s): give one "
-                                "material per tool, or choose a printer with more tools",
+                                "material per tool, or choose a printer with more tools or a "
+                                "filament_swap",
                                 tool_materials.size(), printer.name, printer.extruder_count));
   }
   validate_toolpath(toolpath, printer, tool_materials);
@@ -1159,6 +1240,129 @@ GcodeResult write_gcode(const std::filesystem::path& path, const Toolpath& toolp
   GcodeResult result = make_gcode(toolpath, printer, tool_materials, options);
   write_file_atomically(path, true, [&](std::ostream& out) { out << result.text; });
   return result;
+}
+
+namespace {
+
+// The plate's bounding box over all layers (plate coordinates, mm).
+std::pair<Eigen::Vector2d, Eigen::Vector2d> plate_bounds(const Toolpath& toolpath) {
+  Eigen::Vector2d lo = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
+  Eigen::Vector2d hi = -lo;
+  for (const ToolpathLayer& layer : toolpath.layers) {
+    for (const PathPolyline& path : layer.paths) {
+      lo = lo.cwiseMin(path.points.leftCols<2>().colwise().minCoeff().transpose());
+      hi = hi.cwiseMax(path.points.leftCols<2>().colwise().maxCoeff().transpose());
+    }
+  }
+  return {lo, hi};
+}
+
+// Consecutive pieces of the toolpath printed by one tool, in print order: a path whose extruding
+// segments change tool is cut there (a travel before the cut stays with the earlier piece).
+struct MaterialRun {
+  int tool = 0;
+  Toolpath toolpath;  // its layers, with the toolpath's z and height, tools set to 0
+  size_t first_layer = 0, last_layer = 0;
+};
+
+std::vector<MaterialRun> material_runs(const Toolpath& toolpath) {
+  std::vector<MaterialRun> runs;
+  auto add = [&](size_t k, const PathPolyline& path, size_t from, size_t to, int tool) {
+    if (runs.empty() || runs.back().tool != tool) {
+      runs.push_back({tool, {}, k, k});
+    }
+    MaterialRun& run = runs.back();
+    const ToolpathLayer& layer = toolpath.layers[k];
+    if (run.toolpath.layers.empty() || run.last_layer != k) {
+      run.toolpath.layers.push_back({layer.z, layer.height, {}});
+      run.last_layer = k;
+    }
+    PathPolyline piece;
+    piece.type = path.type;
+    piece.closed = path.closed && from == 0 && to == path.segments.size();
+    piece.points = path.points.middleRows(static_cast<Eigen::Index>(from),
+                                          static_cast<Eigen::Index>(to - from + 1));
+    piece.segments.assign(path.segments.begin() + static_cast<std::ptrdiff_t>(from),
+                          path.segments.begin() + static_cast<std::ptrdiff_t>(to));
+    for (SegmentStyle& s : piece.segments) s.tool = 0;
+    run.toolpath.layers.back().paths.push_back(std::move(piece));
+  };
+  for (size_t k = 0; k < toolpath.layers.size(); ++k) {
+    for (const PathPolyline& path : toolpath.layers[k].paths) {
+      size_t from = 0;
+      int tool = -1;  // of the extruding segments in [from, i)
+      for (size_t i = 0; i < path.segments.size(); ++i) {
+        const SegmentStyle& s = path.segments[i];
+        if (s.travel) continue;
+        if (tool >= 0 && s.tool != tool) {
+          add(k, path, from, i, tool);
+          from = i;
+        }
+        tool = s.tool;
+      }
+      if (tool >= 0) add(k, path, from, path.segments.size(), tool);
+    }
+  }
+  return runs;
+}
+
+}  // namespace
+
+std::vector<MaterialFile> make_material_files(const Toolpath& toolpath,
+                                              const PrinterProfile& printer,
+                                              const std::vector<Material>& tool_materials,
+                                              const GcodeOptions& options) {
+  if (!options.sections.empty()) {
+    throw std::invalid_argument(
+        "make_material_files: a print in sections cannot be cut by material");
+  }
+  if (toolpath.layers.empty()) {
+    throw std::invalid_argument("make_material_files: the toolpath has no layer");
+  }
+  const std::vector<MaterialRun> runs = material_runs(toolpath);
+  for (const MaterialRun& run : runs) {
+    if (run.tool < 0 || static_cast<size_t>(run.tool) >= tool_materials.size()) {
+      throw UserError(ErrorCategory::kOption,
+                      fmt::format("the toolpath prints with tool T{} but {} material(s) were "
+                                  "given: give one material per tool, comma-separated in the "
+                                  "order T0,T1,...",
+                                  run.tool, tool_materials.size()));
+    }
+  }
+  // Each file places its own bounding box where that part lies in the whole print.
+  const auto [lo, hi] = plate_bounds(toolpath);
+  const Eigen::Vector2d at = options.at ? *options.at : bed_center(printer);
+  const Eigen::Vector2d plate_to_bed = at - (lo + hi) / 2;
+  std::vector<MaterialFile> files;
+  for (const MaterialRun& run : runs) {
+    GcodeOptions own = options;
+    const auto [run_lo, run_hi] = plate_bounds(run.toolpath);
+    own.at = (run_lo + run_hi) / 2 + plate_to_bed;
+    if (!files.empty()) own.skirt_loops = 0;  // the first file's skirt is on the bed already
+    MaterialFile file;
+    file.label = fmt::format("F{}", files.size() + 1);
+    file.tool = run.tool;
+    file.first_layer = run.first_layer;
+    file.last_layer = run.last_layer;
+    file.gcode =
+        make_gcode(run.toolpath, printer, {tool_materials[static_cast<size_t>(run.tool)]}, own);
+    files.push_back(std::move(file));
+  }
+  return files;
+}
+
+std::vector<MaterialFile> write_material_files(const std::filesystem::path& path,
+                                               const Toolpath& toolpath,
+                                               const PrinterProfile& printer,
+                                               const std::vector<Material>& tool_materials,
+                                               const GcodeOptions& options) {
+  std::vector<MaterialFile> files = make_material_files(toolpath, printer, tool_materials, options);
+  for (const MaterialFile& file : files) {
+    const std::filesystem::path named =
+        path.parent_path() / (path.stem().string() + "-" + file.label + path.extension().string());
+    write_file_atomically(named, true, [&](std::ostream& out) { out << file.gcode.text; });
+  }
+  return files;
 }
 
 }  // namespace flatmorph

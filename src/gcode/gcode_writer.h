@@ -59,7 +59,7 @@ struct GcodeResult {
   // Per tool (index = tool, as many as materials were given): mm of filament and g.
   std::vector<double> tool_filament_length;
   std::vector<double> tool_filament_mass;
-  int tool_changes = 0;  // times the tool-change template runs
+  int tool_changes = 0;  // times the tool-change template (or a filament swap) runs
   // The header's `key = value` lines as data (print time, filament, printer, materials, speeds),
   // in file order: what a run folder's report shows without reading the G-code back.
   std::vector<std::pair<std::string, std::string>> summary;
@@ -67,12 +67,14 @@ struct GcodeResult {
 
 // The G-code of `toolpath` for `printer`, printing each tool's segments (SegmentStyle::tool) with
 // `tool_materials[tool]`: its temperature, speeds, fan and density. Wherever the print goes on
-// with another tool, the profile's tool change runs (ToolChange). One material: `{material}`. The
-// result has passed check_gcode (a violation is a bug of the writer or the profile:
-// std::logic_error). Throws UserError: kInfeasible when the plate does not fit the bed or the
-// printer's height, or needs a tool the printer lacks; kOption when a tool the toolpath uses has no
-// material, when there are more materials than the printer has tools, or when T0's bed temperature
-// is too hot for another material.
+// with another tool, the profile's tool change runs (ToolChange), or on a printer with one nozzle
+// and a FilamentSwap, a pause for the user to load the next tool's material (T0's is loaded at
+// the start). One material: `{material}`. The result has passed check_gcode (a violation is a bug
+// of the writer or the profile: std::logic_error). Throws UserError: kInfeasible when the plate
+// does not fit the bed or the printer's height, or needs a tool the printer lacks (and cannot
+// swap); kOption when a tool the toolpath uses has no material, when there are more materials
+// than the printer has tools (and it cannot swap), or when T0's bed temperature is too hot for
+// another material.
 GcodeResult make_gcode(const Toolpath& toolpath, const PrinterProfile& printer,
                        const std::vector<Material>& tool_materials,
                        const GcodeOptions& options = {});
@@ -81,6 +83,34 @@ GcodeResult make_gcode(const Toolpath& toolpath, const PrinterProfile& printer,
 GcodeResult write_gcode(const std::filesystem::path& path, const Toolpath& toolpath,
                         const PrinterProfile& printer, const std::vector<Material>& tool_materials,
                         const GcodeOptions& options = {});
+
+// One G-code file of a print cut where the material changes (the paper's files F1-F5 for a printer
+// that can neither change tools nor pause): each file prints one run of one tool's segments in
+// print order, from its printer's start G-code to its end G-code, at the bed position the whole
+// print would have, and the user starts them one after the other with the plate left on the bed.
+struct MaterialFile {
+  std::string label;       // "F1", "F2", ...: the file's place in the order
+  int tool = 0;            // whose material it prints (written as T0 of a one-material file)
+  size_t first_layer = 0;  // the toolpath's layers it prints in, first and last (indices)
+  size_t last_layer = 0;
+  GcodeResult gcode;
+};
+
+// The print of `toolpath` as MaterialFiles, each made by make_gcode with its tool's material
+// alone and `options` (the skirt in the first file only; the whole print's placement). Throws
+// what make_gcode throws, and std::invalid_argument for options with sections.
+std::vector<MaterialFile> make_material_files(const Toolpath& toolpath,
+                                              const PrinterProfile& printer,
+                                              const std::vector<Material>& tool_materials,
+                                              const GcodeOptions& options = {});
+
+// make_material_files, each written atomically beside `path` with its label: plate.gcode gives
+// plate-F1.gcode, plate-F2.gcode, ...
+std::vector<MaterialFile> write_material_files(const std::filesystem::path& path,
+                                               const Toolpath& toolpath,
+                                               const PrinterProfile& printer,
+                                               const std::vector<Material>& tool_materials,
+                                               const GcodeOptions& options = {});
 
 // The PrusaSlicer ;TYPE: name of a path type ("Solid infill", "Skirt/Brim", ...).
 std::string_view prusaslicer_type_name(PathType type);

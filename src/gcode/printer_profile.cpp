@@ -261,6 +261,32 @@ ToolChange parse_tool_change(ObjectReader r, const PrinterProfile& p, const std:
   return t;
 }
 
+// The "filament_swap" object: the firmware's defaults for `flavor`, with the keys given.
+FilamentSwap parse_filament_swap(ObjectReader r, GcodeFlavor flavor, const std::string& source) {
+  FilamentSwap swap = default_filament_swap(flavor);
+  if (r.has("message")) {
+    swap.message =
+        r.string("message", "one line that shows {message} on the screen, e.g. \"M117 {message}\"");
+    if (swap.message.find('\n') != std::string::npos) {
+      fail(source, "filament_swap.message must be one line, e.g. \"M117 {message}\"");
+    }
+  }
+  if (r.has("gcode")) {
+    swap.gcode = r.lines("gcode", "the firmware's pause for a manual swap, e.g. [\"M600\"]");
+  }
+  r.reject_unknown();
+  if (swap.gcode.find_first_not_of(" \t\r\n") == std::string::npos) {
+    fail(source,
+         "filament_swap.gcode is empty, so the print would go on without a pause: give the "
+         "firmware's pause, e.g. [\"M600\"] (docs/gcode.md)");
+  }
+  expand_gcode_template(swap.message, {}, source + ": filament_swap.message",
+                        filament_swap_placeholders());
+  expand_gcode_template(swap.gcode, {}, source + ": filament_swap.gcode",
+                        filament_swap_placeholders());
+  return swap;
+}
+
 PrinterProfile parse_printer_json(const json& root, const std::string& source) {
   PrinterProfile p;
   ObjectReader r(root, "", source);
@@ -389,6 +415,16 @@ PrinterProfile parse_printer_json(const json& root, const std::string& source) {
                              "{{\"gcode\": [\"T{{next_tool}}\"]}}); see docs/gcode.md",
                              p.extruder_count));
   }
+  if (r.has("filament_swap")) {
+    if (p.extruder_count > 1) {
+      fail(source,
+           "filament_swap applies to printers with one extruder (a manual swap at a pause); "
+           "this one changes tools with tool_change: remove it");
+    }
+    p.filament_swap = parse_filament_swap(
+        r.object("filament_swap", "message, gcode; {} for the firmware's defaults"), p.flavor,
+        source);
+  }
   r.reject_unknown();
 
   // Templates are checked now, not when a first print is written.
@@ -426,6 +462,20 @@ json parse_json(std::string_view text, const std::string& source) {
 }
 
 }  // namespace
+
+FilamentSwap default_filament_swap(GcodeFlavor flavor) {
+  switch (flavor) {
+    case GcodeFlavor::kMarlin:
+    case GcodeFlavor::kKlipper:
+      return {"M117 {message}", "M600"};
+    case GcodeFlavor::kRepRapFirmware:
+      return {"M117 \"{message}\"", "M600"};
+    case GcodeFlavor::kBambu:
+      // Bambu firmware documents no message command: the screen says "paused".
+      return {"; {message}", "M400 U1"};
+  }
+  return {"M117 {message}", "M600"};
+}
 
 std::vector<std::string> printer_preset_names() {
   std::vector<std::string> names;
@@ -549,6 +599,24 @@ const std::vector<GcodePlaceholder>& tool_change_placeholders() {
       {"retract_length",
        "the profile's retraction, mm: a shared nozzle's template ends its flush "
        "with this retraction"},
+  };
+  return kPlaceholders;
+}
+
+const std::vector<GcodePlaceholder>& filament_swap_placeholders() {
+  static const std::vector<GcodePlaceholder> kPlaceholders = {
+      {"message", "what to do, e.g. \"Load tpu-generic (T1)\""},
+      {"previous_tool", "the tool whose material comes out (0, 1, ...)"},
+      {"next_tool", "the tool whose material goes in"},
+      {"previous_material", "the name of the material that comes out"},
+      {"next_material", "the name of the material that goes in"},
+      {"previous_temperature", "the previous material's nozzle temperature, degrees C"},
+      {"next_temperature", "the next material's nozzle temperature, degrees C"},
+      {"swap_temperature",
+       "degrees C the nozzle waits at during the swap: the hotter of the two materials' "
+       "temperatures, at most the lower maximum, so that the old one unloads and the new one "
+       "purges (the next material's when no temperature suits both)"},
+      {"safe_z", "2 mm above everything printed so far, at most max_height"},
   };
   return kPlaceholders;
 }

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -41,6 +42,21 @@ struct ToolChange {
   Eigen::Vector2d prime_area_max{0, 0};
   double wipe_length = 0;
 };
+
+// A manual change of filament on a printer with one nozzle (Thermorph's PLA/TPU on a single
+// extruder, notes §8): wherever the print goes on with another tool's material, the writer
+// retracts, lifts above the print, shows `message`, heats the nozzle for the swap and waits, runs
+// `gcode` (the firmware's pause, during which the user unloads and loads), then waits for the next
+// material's own temperature. Templates with filament_swap_placeholders().
+struct FilamentSwap {
+  std::string message;  // shows {message} on the printer's screen: "M117 {message}"
+  std::string gcode;    // the pause: "M600" (Marlin, Prusa), "M400 U1" (Bambu)
+};
+
+// What a profile's `"filament_swap": {}` means for each firmware: M117 and M600 for Marlin (with
+// ADVANCED_PAUSE_FEATURE), Prusa firmware and RepRapFirmware; M117 and an M600 macro the user
+// defines for Klipper; a comment and Bambu's pause M400 U1 for Bambu (docs/gcode.md).
+FilamentSwap default_filament_swap(GcodeFlavor flavor);
 
 struct PrinterProfile {
   std::string name;
@@ -88,6 +104,9 @@ struct PrinterProfile {
   std::string end_gcode;
   // What happens wherever the print goes on with another tool; used when extruder_count > 1.
   ToolChange tool_change;
+  // One nozzle only: how the print pauses for the user to load another tool's material. Unset:
+  // the printer prints one material.
+  std::optional<FilamentSwap> filament_swap;
 };
 
 // Presets in a fixed order (alphabetical).
@@ -123,6 +142,9 @@ const std::vector<GcodePlaceholder>& gcode_placeholders();
 // Those of the tool-change template (tool numbers, temperatures, the flush, where the next tool
 // starts and the height above the print).
 const std::vector<GcodePlaceholder>& tool_change_placeholders();
+// Those of the filament-swap templates (the message, tools, materials, temperatures, the height
+// above the print).
+const std::vector<GcodePlaceholder>& filament_swap_placeholders();
 
 // Replaces every {name} in `text` by values[name] ("{{" and "}}" stand for braces). Throws
 // UserError(kProfile) naming `source` and the line for a placeholder not in `known` or unclosed;

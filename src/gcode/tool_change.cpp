@@ -66,6 +66,12 @@ double flush_temperature(const Material& from, const Material& to) {
   return std::clamp(std::max(from.nozzle_temperature, to.nozzle_temperature), lo, hi);
 }
 
+double swap_temperature(const Material& from, const Material& to) {
+  const bool overlap = std::max(from.min_nozzle_temperature, to.min_nozzle_temperature) <=
+                       std::min(from.max_nozzle_temperature, to.max_nozzle_temperature);
+  return overlap ? flush_temperature(from, to) : to.nozzle_temperature;
+}
+
 int count_tool_changes(const Toolpath& toolpath, int first_tool) {
   int changes = 0, tool = 0;
   auto at = [&](int next) {

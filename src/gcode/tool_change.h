@@ -37,6 +37,10 @@ PrimePad prime_pad(const PrinterProfile& printer);
 // ranges (validate_tool_changes).
 double flush_temperature(const Material& from, const Material& to);
 
+// The temperature a single nozzle waits at while the user swaps `from` for `to` (FilamentSwap):
+// flush_temperature when a temperature suits both, else `to`'s.
+double swap_temperature(const Material& from, const Material& to);
+
 // How many times the print changes tool: from T0 (where the start G-code leaves the firmware) to
 // the first tool, then wherever consecutive extruding segments change tool.
 int count_tool_changes(const Toolpath& toolpath, int first_tool);

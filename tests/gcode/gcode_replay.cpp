@@ -38,6 +38,7 @@ ReadGcode read_gcode(const std::string& text, double cx, double cy) {
   std::map<int, double> nozzle;
   double last_target = -1;
   int tool = 0;
+  int material = -1;      // the tool whose material the last swap loaded into the one nozzle
   size_t extrusions = 0;  // in layers, so far
   double feed = -1;
   std::string type;
@@ -76,6 +77,15 @@ ReadGcode read_gcode(const std::string& text, double cx, double cy) {
       type = raw.substr(6);
       continue;
     }
+    if (starts_with(raw, ";FILAMENT_SWAP:T")) {
+      const int next = std::atoi(raw.c_str() + 16);
+      const int from = material < 0 ? tool : material;
+      if (next != from) {
+        r.filament_swaps.push_back({static_cast<int>(r.lines.size()), from, next, extrusions});
+      }
+      material = next;
+      continue;
+    }
     if (starts_with(raw, "; ")) {
       const size_t eq = raw.find(" = ");
       if (eq != std::string::npos) r.header[raw.substr(2, eq - 2)] = raw.substr(eq + 3);
@@ -87,6 +97,10 @@ ReadGcode read_gcode(const std::string& text, double cx, double cy) {
     if (words.empty()) continue;
     const std::string& c = words[0];
     if (c == "G0" || c == "G1" || c == "G28") r.motors_off_at_end = false;
+    if (c == "M0" || c == "M1" || c == "M25" || c == "M600" || c == "M601" || c == "PAUSE" ||
+        (c == "M400" && words.size() > 1 && words[1] == "U1")) {
+      r.pauses.push_back(static_cast<int>(r.lines.size()));
+    }
     if (c == "G0" || c == "G1") {
       const double nx = word(words, 'X'), ny = word(words, 'Y'), nz = word(words, 'Z');
       if (!std::isnan(word(words, 'F'))) feed = word(words, 'F');
@@ -131,9 +145,9 @@ ReadGcode read_gcode(const std::string& text, double cx, double cy) {
         r.annotation_errors.push_back("extrusion without ;TYPE: or ;WIDTH: in effect: " + raw);
       }
       const auto target = nozzle.find(tool);
-      r.layers.back().extrusions.push_back({ox, oy, x, y, z, de, type, width, height, tool,
-                                            target == nozzle.end() ? -1 : target->second,
-                                            last_target, feed, oz});
+      r.layers.back().extrusions.push_back(
+          {ox, oy, x, y, z, de, type, width, height, material < 0 ? tool : material,
+           target == nozzle.end() ? -1 : target->second, last_target, feed, oz});
       ++extrusions;
     } else if (c == "G90") {
       relative_xyz = false;

@@ -17,8 +17,10 @@ struct ReadExtrusion {
   std::string type;          // the ;TYPE: in effect ("" if none)
   double width;              // the ;WIDTH: in effect (0 if none)
   double height;             // the ;HEIGHT: in effect (0 if none)
-  int tool;                  // the tool selected by the last T command (0 before any)
-  double nozzle_target;      // that tool's last M104/M109 target (-1 if none)
+  // The tool selected by the last T command, or whose material the last ";FILAMENT_SWAP:T<n>"
+  // loaded into a single nozzle (0 before any).
+  int tool;
+  double nozzle_target;  // that tool's last M104/M109 target (-1 if none)
   // The last M104/M109 target given to any tool: what a nozzle shared by all tools is set to.
   double heater_target;
   double feed;  // the F in effect, mm/min (-1 if none)
@@ -51,6 +53,10 @@ struct ReadGcode {
   std::map<int, std::vector<double>> tool_nozzle_targets;  // the same per tool (T word or active)
   std::map<int, double> final_tool_nozzle;                 // per tool, at the end
   std::vector<ReadToolChange> tool_changes;
+  // ";FILAMENT_SWAP:T<n>" annotations that load another tool's material (line: the annotation's).
+  std::vector<ReadToolChange> filament_swaps;
+  // Lines of the commands that pause a print: M0, M1, M25, M600, M601, PAUSE, M400 U1 (Bambu).
+  std::vector<int> pauses;
   std::vector<double> bed_targets;           // every M140/M190 target, in order
   double final_nozzle = -1, final_bed = -1;  // the targets at the end (-1: never set)
   bool motors_off_at_end = false;

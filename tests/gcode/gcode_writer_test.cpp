@@ -269,7 +269,7 @@ TEST(GcodeWriter, RefusesAToolThePrinterLacks) {
   Toolpath toolpath = disk_toolpath(20, 1);
   toolpath.layers[0].paths[0].segments[0].tool = 1;
   try {
-    make_gcode(toolpath, load_printer("prusa-mk4"), {load_material("pla-paper")});
+    make_gcode(toolpath, load_printer("creality-ender3-v2"), {load_material("pla-paper")});
     FAIL();
   } catch (const UserError& e) {
     EXPECT_EQ(e.category(), ErrorCategory::kInfeasible);
