@@ -1,21 +1,26 @@
 // flatmorph calibrate print | fit: print the material samples of Shrink & Morph §4 (or the
-// thickness ramp of SCF 2020 §6, or the print-speed ramp of Thermorph Fig. 6), then fit a material
-// file to their measurements. Speeds in mm/s.
+// thickness ramp of SCF 2020 §6, the print-speed ramp of Thermorph Fig. 6, or Thermorph's hinge
+// sheet, Fig. 6-7), then fit a material file to their measurements. Speeds in mm/s.
 // docs/calibration.md
 #include <fmt/core.h>
 #include <fmt/ranges.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
+#include <numbers>
+#include <optional>
 
 #include "calibration/calibration_print.h"
 #include "calibration/fit.h"
+#include "calibration/hinge_sheet.h"
 #include "calibration/measurements.h"
 #include "commands.h"
 #include "common/atomic_file.h"
 #include "common/error.h"
 #include "gcode/gcode_writer.h"
 #include "gcode/printer_profile.h"
+#include "gcode_input.h"
 #include "material/material.h"
 #include "output_folder.h"
 
@@ -36,6 +41,10 @@ struct PrintOptions {
   int ramp_layers = 6;
   bool speed_ramp = false;
   std::vector<double> print_speeds;  // mm/s
+  bool hinge_sheet = false;
+  std::vector<double> hinge_speeds;  // mm/s
+  std::vector<double> hinge_widths;  // mm
+  std::vector<std::string> hinge_cases;
   double spacing = 0;
   double gap = 5;
   std::string output;
@@ -54,7 +63,114 @@ void write_text(const fs::path& path, const std::string& text) {
   write_file_atomically(path, false, [&](std::ostream& out) { out << text; });
 }
 
+constexpr double kDegree = std::numbers::pi / 180;
+
+// The output paths of a print: OUT.gcode (or OUT-1.gcode, ... for `plates` > 1), OUT.csv, OUT.svg.
+struct PrintPaths {
+  std::vector<fs::path> gcode;
+  fs::path csv, svg;
+};
+
+PrintPaths print_paths(const std::string& output, size_t plates) {
+  const fs::path out(output);
+  const fs::path stem = out.parent_path() / out.stem();
+  const std::string extension = out.has_extension() ? out.extension().string() : ".gcode";
+  PrintPaths paths;
+  for (size_t p = 0; p < plates; ++p) {
+    paths.gcode.push_back(
+        plates == 1 ? out : fs::path(fmt::format("{}-{}{}", stem.string(), p + 1, extension)));
+  }
+  paths.csv = fs::path(stem.string() + ".csv");
+  paths.svg = fs::path(stem.string() + ".svg");
+  return paths;
+}
+
+// `calibrate print --hinge-sheet`: Thermorph's hinge strips in PLA (T0) and TPU (T1).
+int run_hinge_print(const PrintOptions& o, const GlobalOptions& global) {
+  if (o.thickness_ramp || o.speed_ramp) {
+    throw UserError(ErrorCategory::kOption,
+                    "--hinge-sheet is a calibration of its own, with its own measurement sheet: "
+                    "print it alone, without --thickness-ramp or --speed-ramp");
+  }
+  if (!o.nozzle_temps.empty() || !o.layer_heights.empty() || !o.print_speeds.empty()) {
+    throw UserError(ErrorCategory::kOption,
+                    "--hinge-sheet prints at the materials' temperatures, in the actuator's 0.2 "
+                    "mm layers, at --hinge-speeds: leave out --nozzle-temps, --layer-heights and "
+                    "--print-speeds");
+  }
+  const PrinterProfile printer = load_printer(o.printer);
+  const std::vector<Material> materials = load_tool_materials(o.material);
+  if (materials.size() != 2) {
+    throw UserError(ErrorCategory::kOption,
+                    fmt::format("--hinge-sheet prints PLA with tool 0 and TPU with tool 1: give "
+                                "--material PLA,TPU (e.g. pla-generic,tpu-generic), not {} "
+                                "material{}",
+                                materials.size(), materials.size() == 1 ? "" : "s"));
+  }
+  HingeSheetOptions options;
+  if (!o.hinge_speeds.empty()) {
+    options.speeds = o.hinge_speeds;
+  } else {
+    std::erase_if(options.speeds, [&](double v) { return v > printer.travel_speed; });
+  }
+  if (!o.hinge_widths.empty()) options.widths = o.hinge_widths;
+  if (!o.hinge_cases.empty()) {
+    options.case_a = options.case_b = false;
+    for (const std::string& c : o.hinge_cases) {
+      if (c == "A" || c == "a") {
+        options.case_a = true;
+      } else if (c == "B" || c == "b") {
+        options.case_b = true;
+      } else {
+        throw UserError(ErrorCategory::kOption,
+                        fmt::format("--hinge-cases \"{}\": give A (PLA on the bed), B (TPU on "
+                                    "the bed) or A,B",
+                                    c));
+      }
+    }
+  }
+  options.spacing = o.spacing;
+  options.gap = o.gap;
+  const HingeSheetPlan plan = plan_hinge_sheet(printer, options);
+  // Made (and checked) before anything is written.
+  const GcodeResult gcode = make_gcode(plan.toolpath, printer, materials);
+  const PrintPaths paths = print_paths(o.output, 1);
+  create_output_folder(fs::path(o.output).parent_path());
+  write_text(paths.gcode.front(), gcode.text);
+  write_text(paths.csv, hinge_sheet_csv_template(plan, materials[0], printer));
+  write_text(paths.svg, hinge_sheet_layout_svg(plan, printer, gcode.plate_to_bed,
+                                               paths.gcode.front().filename().string()));
+  if (!global.quiet) {
+    std::vector<std::string> speeds, cases;
+    for (double v : options.speeds) speeds.push_back(fmt::format("{:g} ({:g})", v, 60 * v));
+    if (options.case_a) cases.emplace_back("A");
+    if (options.case_b) cases.emplace_back("B");
+    fmt::print(
+        "{} hinge strips: case {}, active PLA at {} mm/s (mm/min), actuators {} mm wide between "
+        "two {:g} mm faces; PLA {} on T0, TPU {} on T1, printer {}\n",
+        plan.strips.size(), fmt::join(cases, " and "), fmt::join(speeds, ", "),
+        fmt::join(options.widths, ", "), options.face_length, materials[0].name, materials[1].name,
+        printer.name);
+    const long s = std::lround(gcode.print_time);
+    fmt::print("wrote {}: about {}h {:02}m {:02}s without heating, {:.1f} g, {} tool changes\n",
+               paths.gcode.front().string(), s / 3600, (s / 60) % 60, s % 60, gcode.filament_mass,
+               gcode.tool_changes);
+    fmt::print(
+        "wrote {} (fill in each strip's fold angle after heating) and {} (layout and "
+        "codes)\n",
+        paths.csv.string(), paths.svg.string());
+    fmt::print("then: flatmorph calibrate fit {} -o my-pla.json\n", paths.csv.string());
+  }
+  return 0;
+}
+
 int run_print(const PrintOptions& o, const GlobalOptions& global) {
+  if (o.hinge_sheet) return run_hinge_print(o, global);
+  if (!o.hinge_speeds.empty() || !o.hinge_widths.empty() || !o.hinge_cases.empty()) {
+    throw UserError(ErrorCategory::kOption,
+                    "--hinge-speeds, --hinge-widths and --hinge-cases set the hinge sheet: add "
+                    "--hinge-sheet");
+  }
   if (o.size.size() != 2) {
     throw UserError(ErrorCategory::kOption, "--size takes two numbers: LENGTH,WIDTH in mm");
   }
@@ -98,17 +214,12 @@ int run_print(const PrintOptions& o, const GlobalOptions& global) {
   const CalibrationPlan plan = plan_calibration(printer, material, options);
 
   // Every file is made (and checked) before any is written.
-  const fs::path out(o.output);
-  const fs::path stem = out.parent_path() / out.stem();
-  const std::string extension = out.has_extension() ? out.extension().string() : ".gcode";
-  std::vector<fs::path> gcode_paths;
+  const PrintPaths paths = print_paths(o.output, plan.plates.size());
+  const std::vector<fs::path>& gcode_paths = paths.gcode;
   std::vector<GcodeResult> results;
   std::vector<Eigen::Vector2d> offsets;
   std::vector<std::string> names;
   for (size_t p = 0; p < plan.plates.size(); ++p) {
-    gcode_paths.push_back(plan.plates.size() == 1
-                              ? out
-                              : fs::path(fmt::format("{}-{}{}", stem.string(), p + 1, extension)));
     GcodeOptions gcode_options;
     gcode_options.sections = plan.plates[p].sections;
     results.push_back(make_gcode(plan.plates[p].toolpath, printer,
@@ -116,9 +227,9 @@ int run_print(const PrintOptions& o, const GlobalOptions& global) {
     offsets.push_back(results.back().plate_to_bed);
     names.push_back(gcode_paths.back().filename().string());
   }
-  const fs::path csv = fs::path(stem.string() + ".csv");
-  const fs::path svg = fs::path(stem.string() + ".svg");
-  create_output_folder(out.parent_path());
+  const fs::path& csv = paths.csv;
+  const fs::path& svg = paths.svg;
+  create_output_folder(fs::path(o.output).parent_path());
   for (size_t p = 0; p < plan.plates.size(); ++p) write_text(gcode_paths[p], results[p].text);
   write_text(csv, calibration_csv_template(plan, material, printer));
   write_text(svg, calibration_layout_svg(plan, printer, offsets, names));
@@ -149,9 +260,80 @@ int run_print(const PrintOptions& o, const GlobalOptions& global) {
   return 0;
 }
 
+// The hinge curve's numbers and the strips it fits worst, for the terminal.
+void print_hinge_fit(const HingeCurveFit& fit) {
+  const HingeCurve& c = fit.curve;
+  fmt::print(
+      "hinge curve, fold angle per mm of actuator width (degree {} / {}), calibrated for {:g} to "
+      "{:g} mm/s:\n  speed mm/s (mm/min)   case A /mm (radius mm)   case B /mm (radius mm)\n",
+      c.case_a_coefficients.size() - 1, c.case_b_coefficients.size() - 1, c.min_speed, c.max_speed);
+  for (int i = 0; i <= 4; ++i) {
+    const double v = c.min_speed + (c.max_speed - c.min_speed) * i / 4;
+    const double a = hinge_curvature(c, v, true), b = hinge_curvature(c, v, false);
+    fmt::print("  {:>6.1f} ({:>6.0f})       {:.4f} ({:>5.1f})          {:.4f} ({:>5.1f})\n", v,
+               60 * v, a, 1 / a, b, 1 / b);
+  }
+  fmt::print(
+      "residuals (measured - curve x width): case A {:.1f} deg RMS, {:.1f} at most; case B "
+      "{:.1f} deg RMS, {:.1f} at most\n",
+      fit.rms_residual_a / kDegree, fit.max_residual_a / kDegree, fit.rms_residual_b / kDegree,
+      fit.max_residual_b / kDegree);
+  for (const HingeStripFit& s : fit.strips) {
+    if (std::abs(s.fold_angle - s.predicted) < 5 * kDegree) continue;
+    fmt::print("  strip {} (case {}, {:g} mm/s, {:g} mm): measured {:.1f} deg, curve {:.1f}\n",
+               s.strip, s.pla_on_bed ? "A" : "B", s.speed, s.width, s.fold_angle / kDegree,
+               s.predicted / kDegree);
+  }
+}
+
+// Refuses a material that its own file could not hold, naming the sheets.
+void check_material(const Material& m, const FitOptions& o) {
+  try {
+    parse_material_json(material_json(m), "the fitted material");
+  } catch (const UserError& e) {
+    throw UserError(ErrorCategory::kFormat,
+                    fmt::format("{}: {}", fmt::join(o.sheets, ", "), e.what()));
+  }
+}
+
+// `calibrate fit` of a hinge sheet alone: the material the strips were printed with (or
+// --material) with the fitted hinge curve.
+int run_hinge_fit(const FitOptions& o, const GlobalOptions& global, const HingeSheet& sheet,
+                  const HingeCurveFit& fit) {
+  Material m = !o.material.empty() ? load_material(o.material)
+               : sheet.material    ? *sheet.material
+                                   : load_material("pla-generic");
+  const fs::path out(o.output);
+  m.name = o.name.empty() ? out.stem().string() : o.name;
+  m.description +=
+      fmt::format(" (hinge curve: calibrated by flatmorph calibrate fit from {})", sheet.source);
+  m.hinge_curve = fit.curve;
+  check_material(m, o);
+  create_output_folder(out.parent_path());
+  write_material(out, m);
+  if (!global.quiet) {
+    print_hinge_fit(fit);
+    fmt::print("wrote {} (use it with --material {})\n", out.string(), out.string());
+  }
+  return 0;
+}
+
 int run_fit(const FitOptions& o, const GlobalOptions& global) {
   std::vector<MeasurementSheet> sheets;
-  for (const std::string& path : o.sheets) sheets.push_back(read_measurements(path));
+  std::optional<HingeSheet> hinge;
+  for (const std::string& path : o.sheets) {
+    if (!is_hinge_sheet_file(path)) {
+      sheets.push_back(read_measurements(path));
+    } else if (hinge) {
+      throw UserError(ErrorCategory::kOption,
+                      fmt::format("{}: a second hinge sheet; give one", path));
+    } else {
+      hinge = read_hinge_measurements(path);
+    }
+  }
+  std::optional<HingeCurveFit> hinge_fit;
+  if (hinge) hinge_fit = fit_hinge_curve(*hinge);
+  if (sheets.empty()) return run_hinge_fit(o, global, *hinge, *hinge_fit);
   auto is_ramp = [](const MeasurementSheet& s) { return s.thickness_ramp || s.speed_ramp; };
   bool any_sets = false;
   for (const MeasurementSheet& s : sheets) any_sets = any_sets || !is_ramp(s);
@@ -223,17 +405,14 @@ int run_fit(const FitOptions& o, const GlobalOptions& global) {
       chosen->print_speed > 0 ? fmt::format(", {:g} mm/s", chosen->print_speed) : "",
       chosen->samples, chosen->contraction_pct.mean, chosen->contraction_pct.std);
   if (!chosen->delta_lambda1) description += "; delta_lambda1 not measured (kept the base's)";
+  if (hinge_fit) description += fmt::format("; hinge curve from {}", hinge->source);
   Material fitted = fitted_material(base, *chosen, name, description);
   fitted.thickness_curve = curve;
   fitted.speed_curve = speed_curve;
+  if (hinge_fit) fitted.hinge_curve = hinge_fit->curve;
   // The material file's checks on the whole, before anything is written: a speed curve must cover
   // the print_speed the written set was measured at.
-  try {
-    parse_material_json(material_json(fitted), "the fitted material");
-  } catch (const UserError& e) {
-    throw UserError(ErrorCategory::kFormat,
-                    fmt::format("{}: {}", fmt::join(o.sheets, ", "), e.what()));
-  }
+  check_material(fitted, o);
 
   std::vector<SetFit> all;
   for (const MeasurementSheet& s : sheets) {
@@ -291,6 +470,7 @@ int run_fit(const FitOptions& o, const GlobalOptions& global) {
           lambda1_at_print_speed(*speed_curve, speed_curve->min_print_speed),
           lambda1_at_print_speed(*speed_curve, speed_curve->max_print_speed), fitted.print_speed);
     }
+    if (hinge_fit) print_hinge_fit(*hinge_fit);
     fmt::print("wrote {} (use it with --material {}) and {}{}\n", out.string(), out.string(),
                plot_heights ? plot.string() : speed_plot.string(),
                plot_heights && plot_speeds ? " and " + speed_plot.string() : "");
@@ -304,8 +484,9 @@ Command make_calibrate_command(CLI::App& app, const GlobalOptions& global) {
   CLI::App* sub = app.add_subcommand(
       "calibrate",
       "Measure your own filament: 'calibrate print' writes G-code for test samples (one set per "
-      "nozzle temperature and layer height, or per layer height or print speed for the ramps), "
-      "'calibrate fit' turns their measurements into a material file (docs/calibration.md).");
+      "nozzle temperature and layer height, or per layer height or print speed for the ramps, or "
+      "Thermorph's hinge strips), 'calibrate fit' turns their measurements into a material file "
+      "(docs/calibration.md).");
   sub->require_subcommand(1);
 
   auto p = std::make_shared<PrintOptions>();
@@ -314,12 +495,13 @@ Command make_calibrate_command(CLI::App& app, const GlobalOptions& global) {
       "Write the G-code of the calibration samples (Shrink & Morph §4.1: 80 x 20 x 0.8 mm "
       "cuboids, paths along the length, each sample's id notched into one end), a CSV template "
       "to fill in (OUT.csv) and the layout with sample ids (OUT.svg). Several G-code files "
-      "(OUT-1.gcode, ...) when the samples do not fit one bed.");
+      "(OUT-1.gcode, ...) when the samples do not fit one bed. With --hinge-sheet, Thermorph's "
+      "hinge strips in PLA and TPU instead.");
   print->add_option("--printer", p->printer, "Printer preset name or JSON file")->required();
   print
       ->add_option("--material", p->material,
-                   "Material preset name or JSON file: bed, speeds, "
-                   "fan and the safe temperature range")
+                   "Material preset name or JSON file: bed, speeds, fan and the safe temperature "
+                   "range; with --hinge-sheet two, PLA,TPU (tools 0 and 1)")
       ->required();
   print
       ->add_option("--nozzle-temps", p->nozzle_temps,
@@ -357,6 +539,27 @@ Command make_calibrate_command(CLI::App& app, const GlobalOptions& global) {
                    "20,40,60,90,120,150, those the printer allows; Thermorph's 1500-9000 mm/min "
                    "are 25-150 mm/s)")
       ->delimiter(',');
+  print->add_flag(
+      "--hinge-sheet", p->hinge_sheet,
+      "Thermorph's hinge calibration (Fig. 6-7): strips of two 20 x 10 mm PLA faces "
+      "joined by an actuator (3 active PLA layers across the hinge, 1 TPU layer, 0.2 mm "
+      "each), one per --hinge-speeds x --hinge-widths x --hinge-cases, each coded by "
+      "notches; needs --material PLA,TPU and a printer that prints two materials. "
+      "'calibrate fit' on its sheet (the fold angles) adds the hinge curve");
+  print
+      ->add_option("--hinge-speeds", p->hinge_speeds,
+                   "Active PLA speeds of the hinge strips, mm/s (default 50,75,100,125,150: the "
+                   "paper's 3000-9000 mm/min, those the printer allows)")
+      ->delimiter(',');
+  print
+      ->add_option("--hinge-widths", p->hinge_widths,
+                   "Actuator widths of the hinge strips, mm (default 5,10,15,20)")
+      ->delimiter(',');
+  print
+      ->add_option("--hinge-cases", p->hinge_cases,
+                   "Stacking cases of the hinge strips: A (PLA on the bed), B (TPU on the bed) "
+                   "(default A,B)")
+      ->delimiter(',');
   print->add_option("--spacing", p->spacing,
                     "Distance between paths = extrusion width, mm (default: the nozzle diameter)");
   print->add_option("--gap", p->gap, "Gap between samples, mm")->capture_default_str();
@@ -370,7 +573,9 @@ Command make_calibrate_command(CLI::App& app, const GlobalOptions& global) {
       "lambda1 kappa from the curl (Shrink & Morph §4.2); ranks the sets by contraction and "
       "writes the best (or --set); a thickness-ramp CSV adds the thickness curve, a speed-ramp CSV "
       "the speed curve (a set of a speed ramp also sets print_speed, the speed it was measured "
-      "at). Also writes OUT.svg, contraction vs layer height per temperature (Fig. 8), or vs "
+      "at), a hinge sheet the hinge curve (fold angle per mm of actuator width vs the active "
+      "PLA's speed, per case; alone, it is added to the material the strips were printed with). "
+      "Also writes OUT.svg, contraction vs layer height per temperature (Fig. 8), or vs "
       "print speed for a speed ramp (OUT-speed.svg beside other sheets).");
   fit->add_option("measurements", f->sheets, "Filled-in CSV file(s)")->required();
   fit->add_option("-o,--output", f->output, "Material file to write (JSON)")->required();

@@ -14,9 +14,6 @@
 namespace flatmorph {
 namespace {
 
-// A notch slot must be at least this wide (mm) to be seen after shrinking.
-constexpr double kMinSlotWidth = 2.0;
-
 UserError option_error(const std::string& message) {
   return UserError(ErrorCategory::kOption, message);
 }
@@ -130,9 +127,9 @@ void validate(const PrinterProfile& printer, const Material& material,
   if (o.speed_ramp) validate_speed_ramp(printer, o);
 }
 
-// The printable rectangle, centred on the origin (mm): the bed less the margin; the inscribed
-// square of a round bed.
-Eigen::Vector2d usable_area(const PrinterProfile& printer, double margin) {
+}  // namespace
+
+Eigen::Vector2d calibration_usable_area(const PrinterProfile& printer, double margin) {
   if (printer.bed_shape == BedShape::kCircular) {
     const double side = printer.bed_size.x() / std::numbers::sqrt2 - 2 * margin;
     return {side, side};
@@ -140,9 +137,8 @@ Eigen::Vector2d usable_area(const PrinterProfile& printer, double margin) {
   return printer.bed_size - Eigen::Vector2d::Constant(2 * margin);
 }
 
-// A polyline of one straight extruded segment.
-PathPolyline line(const Eigen::Vector2d& a, const Eigen::Vector2d& b, double z,
-                  const SegmentStyle& style) {
+PathPolyline straight_path(const Eigen::Vector2d& a, const Eigen::Vector2d& b, double z,
+                           const SegmentStyle& style) {
   PathPolyline p;
   p.points.resize(2, 3);
   p.points.row(0) << a.x(), a.y(), z;
@@ -152,7 +148,11 @@ PathPolyline line(const Eigen::Vector2d& a, const Eigen::Vector2d& b, double z,
   return p;
 }
 
-}  // namespace
+int notch_code_bits(int count) {
+  int bits = 1;
+  while ((1 << bits) - 2 < count) ++bits;
+  return bits;
+}
 
 std::string CalibrationSet::label() const {
   std::string label = fmt::format("set {}: {:g} C, {:g} mm x {} layers", id, nozzle_temperature,
@@ -193,21 +193,19 @@ CalibrationPlan plan_calibration(const PrinterProfile& printer, const Material& 
     }
   }
   const int count = static_cast<int>(plan.sets.size()) * o.repeats;
-  // Ids 1 .. 2^bits - 2: no sample without a notch (a broken end) or with every slot notched (an
-  // end with no full-length edge to measure).
-  plan.code_bits = 1;
-  while ((1 << plan.code_bits) - 2 < count) ++plan.code_bits;
+  plan.code_bits = notch_code_bits(count);
   const double slot = o.width / plan.code_bits;
-  if (slot < kMinSlotWidth || slot < 2 * plan.extrusion_width) {
+  if (slot < kMinNotchSlotWidth || slot < 2 * plan.extrusion_width) {
     throw option_error(fmt::format(
         "{} samples need a {}-notch code, whose notches would be {:.2f} mm wide on a {:g} mm "
         "wide sample (at least {:g} mm and 2 paths are needed): print fewer sets or repeats, or "
         "wider samples",
-        count, plan.code_bits, slot, o.width, std::max(kMinSlotWidth, 2 * plan.extrusion_width)));
+        count, plan.code_bits, slot, o.width,
+        std::max(kMinNotchSlotWidth, 2 * plan.extrusion_width)));
   }
 
   // A set is a block of samples stacked along y (several columns if the bed is too shallow).
-  const Eigen::Vector2d usable = usable_area(printer, o.margin);
+  const Eigen::Vector2d usable = calibration_usable_area(printer, o.margin);
   const int rows = std::min(
       o.repeats, static_cast<int>(std::floor((usable.y() + o.gap) / (o.width + o.gap) + 1e-9)));
   const int columns = rows > 0 ? (o.repeats + rows - 1) / rows : 0;
@@ -292,8 +290,8 @@ CalibrationPlan plan_calibration(const PrinterProfile& printer, const Material& 
             const Eigen::Vector2d a(s.center.x() - o.length / 2 + plan.extrusion_width / 2, y);
             const Eigen::Vector2d b(s.center.x() + o.length / 2 - plan.extrusion_width / 2 - cut,
                                     y);
-            layer.paths.push_back(i % 2 == 0 ? line(a, b, layer.z, style)
-                                             : line(b, a, layer.z, style));
+            layer.paths.push_back(i % 2 == 0 ? straight_path(a, b, layer.z, style)
+                                             : straight_path(b, a, layer.z, style));
           }
         }
         if (k % 2 == 0) {

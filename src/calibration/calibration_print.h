@@ -90,6 +90,21 @@ CalibrationPlan plan_calibration(const PrinterProfile& printer, const Material& 
 // is notched when bit j of id is set.
 std::vector<bool> notch_code(int id, int bits);
 
+// The fewest notch slots (bits) that give `count` codes 1 .. 2^bits − 2: none without a notch (a
+// broken end) and none with every slot notched (an end with no full-length edge to measure).
+int notch_code_bits(int count);
+
+// A notch slot must be at least this wide (mm) to be seen after shrinking.
+inline constexpr double kMinNotchSlotWidth = 2.0;
+
+// The printable rectangle of the bed less `margin` (mm), centred on the origin: the inscribed
+// square of a round bed.
+Eigen::Vector2d calibration_usable_area(const PrinterProfile& printer, double margin);
+
+// A polyline of one straight extruded segment from a to b at height z (plate coordinates, mm).
+PathPolyline straight_path(const Eigen::Vector2d& a, const Eigen::Vector2d& b, double z,
+                           const SegmentStyle& style);
+
 // How to read the notch code, in sentences (written into the CSV template and the SVG).
 std::vector<std::string> calibration_notch_legend(const CalibrationPlan& plan);
 

@@ -46,7 +46,8 @@ void rank_sets(std::vector<SetFit>& sets);
 // `base` (the material the samples were printed with) with the set's ratios, Delta lambda1 (when
 // measured; otherwise base's), layer height, nozzle temperature and, for a speed-ramp set, print
 // speed (the ratios hold at the speed they were measured at); without the base's thickness and
-// speed curves, which the caller replaces by those of the ramps it fitted. Throws
+// speed curves, which the caller replaces by those of the ramps it fitted (its hinge curve, fold
+// angles measured on their own strips, stays unless the caller fits another). Throws
 // UserError(kFormat) when a ratio lies outside what a material file accepts.
 Material fitted_material(const Material& base, const SetFit& set, const std::string& name,
                          const std::string& description);

@@ -10,6 +10,7 @@
 #include <map>
 #include <sstream>
 
+#include "calibration/sheet_csv.h"
 #include "common/error.h"
 
 namespace flatmorph {
@@ -23,94 +24,7 @@ constexpr const char* kRequiredColumns[] = {
 // ranges, material.cpp).
 constexpr double kRatioRange[3][2] = {{0.2, 1.0}, {0.2, 2.0}, {0.2, 3.0}};
 
-std::string_view trim(std::string_view s) {
-  while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
-  while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r')) {
-    s.remove_suffix(1);
-  }
-  return s;
-}
-
-std::string lower(std::string_view s) {
-  std::string out(s);
-  for (char& c : out) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return out;
-}
-
-std::vector<std::string_view> split(std::string_view line) {
-  std::vector<std::string_view> cells;
-  size_t start = 0;
-  for (size_t i = 0; i <= line.size(); ++i) {
-    if (i == line.size() || line[i] == ',') {
-      cells.push_back(trim(line.substr(start, i - start)));
-      start = i + 1;
-    }
-  }
-  return cells;
-}
-
-// Reads the cells of one row, naming file, line and column in every error.
-class Row {
- public:
-  Row(const std::string& source, int line, const std::vector<std::string>& names,
-      std::vector<std::string_view> cells)
-      : source_(source), line_(line), names_(names), cells_(std::move(cells)) {}
-
-  std::string_view text(const std::string& column) const {
-    const size_t c = index(column);
-    return c < cells_.size() ? cells_[c] : std::string_view();
-  }
-  bool empty(const std::string& column) const { return text(column).empty(); }
-
-  [[noreturn]] void fail(const std::string& column, const std::string& problem) const {
-    throw UserError(ErrorCategory::kFormat, fmt::format("{}: line {}, column {} ({}): {}", source_,
-                                                        line_, index(column) + 1, column, problem));
-  }
-
-  double number(const std::string& column) const {
-    const std::string_view t = text(column);
-    if (t.empty()) {
-      fail(column, fmt::format("the value is missing; measure it and fill it in (or write skip in "
-                               "length_after to leave sample {} out)",
-                               text("sample")));
-    }
-    double value = 0;
-    const char* end = t.data() + t.size();
-    const auto [ptr, ec] = std::from_chars(t.data(), end, value);
-    if (ec != std::errc() || ptr != end || !std::isfinite(value)) {
-      fail(column, fmt::format("\"{}\" is not a number; write a plain number such as 79.5 (a "
-                               "point, no units)",
-                               t));
-    }
-    return value;
-  }
-
-  double positive(const std::string& column) const {
-    const double value = number(column);
-    if (!(value > 0)) fail(column, fmt::format("{} is not a positive size", value));
-    return value;
-  }
-
-  int whole(const std::string& column) const {
-    const double value = number(column);
-    if (value != std::floor(value) || value < 1 || value > 1e6) {
-      fail(column, fmt::format("{} is not a whole number of 1 or more", value));
-    }
-    return static_cast<int>(value);
-  }
-
-  size_t index(const std::string& column) const {
-    return static_cast<size_t>(std::find(names_.begin(), names_.end(), column) - names_.begin());
-  }
-
- private:
-  const std::string& source_;
-  int line_;
-  const std::vector<std::string>& names_;
-  std::vector<std::string_view> cells_;
-};
-
-SampleMeasurement parse_row(const Row& r, int line, const MeasurementSheet& sheet) {
+SampleMeasurement parse_row(const SheetRow& r, int line, const MeasurementSheet& sheet) {
   SampleMeasurement m;
   m.line = line;
   m.sample = r.whole("sample");
@@ -124,7 +38,7 @@ SampleMeasurement parse_row(const Row& r, int line, const MeasurementSheet& shee
   m.length_before = r.positive("length_before");
   m.width_before = r.positive("width_before");
   m.thickness_before = r.positive("thickness_before");
-  if (lower(r.text("length_after")) == "skip") {
+  if (lower_case(r.text("length_after")) == "skip") {
     m.skipped = true;
     return m;
   }
@@ -210,16 +124,16 @@ MeasurementSheet parse_measurements(std::string_view text, const std::string& so
   size_t pos = 0;
   while (pos < text.size()) {
     const size_t end = std::min(text.find('\n', pos), text.size());
-    const std::string_view raw = trim(text.substr(pos, end - pos));
+    const std::string_view raw = trim_cell(text.substr(pos, end - pos));
     pos = end + 1;
     ++line;
     if (raw.empty()) continue;
     if (raw.front() == '#') {
-      const std::string_view body = trim(raw.substr(1));
+      const std::string_view body = trim_cell(raw.substr(1));
       const size_t eq = body.find(" = ");
       if (eq == std::string_view::npos) continue;
-      const std::string key(trim(body.substr(0, eq)));
-      const std::string_view value = trim(body.substr(eq + 3));
+      const std::string key(trim_cell(body.substr(0, eq)));
+      const std::string_view value = trim_cell(body.substr(eq + 3));
       if (key == "kind") {
         if (value != "sets" && value != "thickness-ramp" && value != "speed-ramp") {
           throw UserError(ErrorCategory::kFormat,
@@ -248,7 +162,7 @@ MeasurementSheet parse_measurements(std::string_view text, const std::string& so
     }
     if (names.empty()) {
       header_line = line;
-      for (std::string_view cell : split(raw)) names.push_back(lower(cell));
+      for (std::string_view cell : split_cells(raw)) names.push_back(lower_case(cell));
       for (const char* column : kRequiredColumns) {
         if (std::find(names.begin(), names.end(), column) == names.end()) {
           throw UserError(ErrorCategory::kFormat,
@@ -266,7 +180,7 @@ MeasurementSheet parse_measurements(std::string_view text, const std::string& so
       }
       continue;
     }
-    std::vector<std::string_view> cells = split(raw);
+    std::vector<std::string_view> cells = split_cells(raw);
     if (cells.size() > names.size()) {
       throw UserError(
           ErrorCategory::kFormat,
@@ -275,7 +189,7 @@ MeasurementSheet parse_measurements(std::string_view text, const std::string& so
                       "79.5, not 79,5)",
                       source, line, names.size() + 1, cells.size(), header_line, names.size()));
     }
-    const Row row(source, line, names, std::move(cells));
+    const SheetRow row(source, line, names, std::move(cells), "sample", "length_after");
     rows.push_back(parse_row(row, line, sheet));
   }
   if (names.empty() || rows.empty()) {
@@ -286,7 +200,7 @@ MeasurementSheet parse_measurements(std::string_view text, const std::string& so
                                 source));
   }
   for (const SampleMeasurement& m : rows) {
-    const Row row(source, m.line, names, {});
+    const SheetRow row(source, m.line, names, {}, "sample", "length_after");
     if (const auto [it, fresh] = sample_lines.emplace(m.sample, m.line); !fresh) {
       row.fail("sample",
                fmt::format("sample {} appears twice (also on line {}); one row per sample",

@@ -52,11 +52,12 @@ std::vector<std::string> known_keys() {
   for (const NumberKey& k : kNumberKeys) keys.emplace_back(k.key);
   keys.emplace_back("thickness_curve");
   keys.emplace_back("speed_curve");
+  keys.emplace_back("hinge_curve");
   return keys;
 }
 
-// One of the optional curve objects ("thickness_curve", "speed_curve"), read with errors that name
-// the file and the key.
+// One of the optional curve objects ("thickness_curve", "speed_curve", "hinge_curve"), read with
+// errors that name the file and the key.
 class CurveReader {
  public:
   // `keys`: those the object may hold; `shape`: the object as a user writes it, for the error when
@@ -90,20 +91,34 @@ class CurveReader {
     return j_[key].get<double>();
   }
 
-  // "lambda1_coefficients": `variable` says what x is, e.g. "h in mm".
-  std::vector<double> coefficients(const std::string& variable) const {
-    if (!j_.contains("lambda1_coefficients") || !j_["lambda1_coefficients"].is_array()) {
-      fail(
-          fmt::format("needs \"lambda1_coefficients\": an array of 1 to 5 numbers c0, c1, ... "
-                      "with lambda1 = c0 + c1 x + c2 x^2 + ... ({})",
-                      variable));
+  // A whole number in [lo, hi], or `fallback` when the key is absent.
+  int whole(const char* key, int fallback, int lo, int hi) const {
+    const double x = number(key, false, fallback);
+    if (x != std::floor(x) || x < lo || x > hi) {
+      fail(fmt::format("has \"{}\": {}, expected a whole number from {} to {}", key, x, lo, hi));
+    }
+    return static_cast<int>(x);
+  }
+
+  bool boolean(const char* key) const {
+    if (!j_.contains(key) || !j_[key].is_boolean()) {
+      fail(fmt::format("needs \"{}\": true or false", key));
+    }
+    return j_[key].get<bool>();
+  }
+
+  // The polynomial's coefficients under `key` (e.g. "lambda1_coefficients"); `formula` says what
+  // they give, e.g. "lambda1 = c0 + c1 x + c2 x^2 + ... (x = h in mm)".
+  std::vector<double> coefficients(const char* key, const std::string& formula) const {
+    if (!j_.contains(key) || !j_[key].is_array()) {
+      fail(fmt::format("needs \"{}\": an array of 1 to 5 numbers c0, c1, ... with {}", key,
+                       formula));
     }
     std::vector<double> c;
-    for (const nlohmann::json& x : j_["lambda1_coefficients"]) {
+    for (const nlohmann::json& x : j_[key]) {
       if (!x.is_number()) {
-        throw UserError(
-            ErrorCategory::kProfile,
-            fmt::format("{}: \"lambda1_coefficients\" holds {}, not a number", where_, x.dump()));
+        throw UserError(ErrorCategory::kProfile,
+                        fmt::format("{}: \"{}\" holds {}, not a number", where_, key, x.dump()));
       }
       c.push_back(x.get<double>());
     }
@@ -128,14 +143,11 @@ ThicknessCurve parse_thickness_curve(const nlohmann::json& j, const std::string&
                       "{\"lambda1_coefficients\": [...], \"min_layer_height\": ..., "
                       "\"max_layer_height\": ...}");
   ThicknessCurve curve;
-  curve.lambda1_coefficients = r.coefficients("x = h, the layer height in mm");
+  curve.lambda1_coefficients = r.coefficients(
+      "lambda1_coefficients", "lambda1 = c0 + c1 x + c2 x^2 + ... (x = h, the layer height in mm)");
   curve.min_layer_height = r.number("min_layer_height", true, 0);
   curve.max_layer_height = r.number("max_layer_height", true, 0);
-  const double layers = r.number("layers", false, curve.layers);
-  if (layers != std::floor(layers) || layers < 1 || layers > 1000) {
-    r.fail(fmt::format("has \"layers\": {}, expected a whole number of layers", layers));
-  }
-  curve.layers = static_cast<int>(layers);
+  curve.layers = r.whole("layers", curve.layers, 1, 1000);
   curve.nozzle_temperature = r.number("nozzle_temperature", false, 0);
   r.require_usable(thickness_curve_problem(curve));
   return curve;
@@ -149,12 +161,42 @@ SpeedCurve parse_speed_curve(const nlohmann::json& j, const std::string& source)
                       "{\"lambda1_coefficients\": [...], \"min_print_speed\": ..., "
                       "\"max_print_speed\": ...} (mm/s)");
   SpeedCurve curve;
-  curve.lambda1_coefficients = r.coefficients("x = v, the print speed in mm/s");
+  curve.lambda1_coefficients =
+      r.coefficients("lambda1_coefficients",
+                     "lambda1 = c0 + c1 x + c2 x^2 + ... (x = v, the print speed in mm/s)");
   curve.min_print_speed = r.number("min_print_speed", true, 0);
   curve.max_print_speed = r.number("max_print_speed", true, 0);
   curve.layer_height = r.number("layer_height", false, 0);
   curve.nozzle_temperature = r.number("nozzle_temperature", false, 0);
   r.require_usable(speed_curve_problem(curve));
+  return curve;
+}
+
+// The optional "hinge_curve" object (hinge_curve.h).
+HingeCurve parse_hinge_curve(const nlohmann::json& j, const std::string& source) {
+  const CurveReader r(
+      j, source, "hinge_curve",
+      {"description", "calibrated", "case_a_curvature_coefficients",
+       "case_b_curvature_coefficients", "min_print_speed", "max_print_speed", "layer_height",
+       "pla_layers", "tpu_layers", "tpu_print_speed", "overlap", "nozzle_temperature"},
+      "{\"calibrated\": true, \"case_a_curvature_coefficients\": [...], "
+      "\"case_b_curvature_coefficients\": [...], \"min_print_speed\": ..., "
+      "\"max_print_speed\": ...} (1/mm, mm/s)");
+  HingeCurve curve;
+  curve.calibrated = r.boolean("calibrated");
+  const std::string formula =
+      "curvature = c0 + c1 v + c2 v^2 + ... in 1/mm (v = the active PLA's print speed in mm/s)";
+  curve.case_a_coefficients = r.coefficients("case_a_curvature_coefficients", formula);
+  curve.case_b_coefficients = r.coefficients("case_b_curvature_coefficients", formula);
+  curve.min_speed = r.number("min_print_speed", true, 0);
+  curve.max_speed = r.number("max_print_speed", true, 0);
+  curve.stack.layer_height = r.number("layer_height", false, curve.stack.layer_height);
+  curve.stack.pla_layers = r.whole("pla_layers", curve.stack.pla_layers, 1, 20);
+  curve.stack.tpu_layers = r.whole("tpu_layers", curve.stack.tpu_layers, 1, 20);
+  curve.stack.tpu_speed = r.number("tpu_print_speed", false, curve.stack.tpu_speed);
+  curve.stack.overlap = r.number("overlap", false, curve.stack.overlap);
+  curve.nozzle_temperature = r.number("nozzle_temperature", false, 0);
+  r.require_usable(hinge_curve_problem(curve));
   return curve;
 }
 
@@ -216,6 +258,7 @@ Material parse_material(const nlohmann::json& j, const std::string& source, std:
                       source, m.print_speed, c.min_print_speed, c.max_print_speed));
     }
   }
+  if (j.contains("hinge_curve")) m.hinge_curve = parse_hinge_curve(j["hinge_curve"], source);
   if (m.nozzle_temperature < m.min_nozzle_temperature ||
       m.nozzle_temperature > m.max_nozzle_temperature) {
     throw UserError(ErrorCategory::kProfile,
@@ -284,6 +327,28 @@ std::string material_json(const Material& m) {
     t["layer_height"] = c.layer_height;
     t["nozzle_temperature"] = c.nozzle_temperature;
     j["speed_curve"] = std::move(t);
+  }
+  if (m.hinge_curve) {
+    const HingeCurve& c = *m.hinge_curve;
+    nlohmann::ordered_json t;
+    t["description"] =
+        "Thermorph actuators: the fold angle per mm of printed actuator width, curvature(v) = sum "
+        "of case_*_curvature_coefficients[i] * v^i in 1/mm (radius = 1 / curvature), v the "
+        "active PLA's print speed in mm/s, valid for min_print_speed <= v <= max_print_speed; "
+        "case A: PLA on the bed, folds toward the bed; case B: TPU on the bed, folds away from "
+        "it; for actuators of pla_layers PLA and tpu_layers TPU layers of layer_height mm";
+    t["calibrated"] = c.calibrated;
+    t["case_a_curvature_coefficients"] = c.case_a_coefficients;
+    t["case_b_curvature_coefficients"] = c.case_b_coefficients;
+    t["min_print_speed"] = c.min_speed;
+    t["max_print_speed"] = c.max_speed;
+    t["layer_height"] = c.stack.layer_height;
+    t["pla_layers"] = c.stack.pla_layers;
+    t["tpu_layers"] = c.stack.tpu_layers;
+    t["tpu_print_speed"] = c.stack.tpu_speed;
+    t["overlap"] = c.stack.overlap;
+    t["nozzle_temperature"] = c.nozzle_temperature;
+    j["hinge_curve"] = std::move(t);
   }
   return j.dump(2) + "\n";
 }

@@ -9,6 +9,7 @@
 #include <string_view>
 #include <vector>
 
+#include "material/hinge_curve.h"
 #include "material/speed_curve.h"
 #include "material/thickness_curve.h"
 
@@ -53,6 +54,11 @@ struct Material {
   // fit` on a --speed-ramp print writes it). print_speed must lie in its calibrated range: the
   // ratios above were measured at print_speed, and printed_lambda1 scales them from there.
   std::optional<SpeedCurve> speed_curve;
+  // Optional, for the PLA of Thermorph's actuators: how far an actuator bends per mm of its width
+  // against the speed its active PLA is printed at (key "hinge_curve"; `flatmorph calibrate fit`
+  // on a --hinge-sheet print writes it). Without it, designs use the uncalibrated default
+  // (plate/actuator_stack.h).
+  std::optional<HingeCurve> hinge_curve;
 };
 
 // lambda1 of a bead printed with `material` at layer height `layer_height_mm` and print speed
