@@ -30,6 +30,7 @@ Command make_toolpaths_command(CLI::App& app, const GlobalOptions& global);
 Command make_design_command(CLI::App& app, const GlobalOptions& global);
 Command make_heightfield_command(CLI::App& app, const GlobalOptions& global);
 Command make_tiles_command(CLI::App& app, const GlobalOptions& global);
+Command make_origami_command(CLI::App& app, const GlobalOptions& global);
 Command make_calibrate_command(CLI::App& app, const GlobalOptions& global);
 Command make_report_command(CLI::App& app, const GlobalOptions& global);
 Command make_view_command(CLI::App& app, const GlobalOptions& global);

@@ -74,13 +74,14 @@ int main(int argc, char** argv) {
 
   // Add new commands here, one line each, in the order `flatmorph --help` lists them.
   std::vector<cli::Command> commands = {
-      cli::make_info_command(app, global),     cli::make_example_command(app, global),
-      cli::make_printers_command(app, global), cli::make_materials_command(app, global),
-      cli::make_check_command(app, global),    cli::make_flatten_command(app, global),
-      cli::make_simulate_command(app, global), cli::make_toolpaths_command(app, global),
-      cli::make_design_command(app, global),   cli::make_heightfield_command(app, global),
-      cli::make_tiles_command(app, global),    cli::make_calibrate_command(app, global),
-      cli::make_report_command(app, global),   cli::make_view_command(app, global),
+      cli::make_info_command(app, global),      cli::make_example_command(app, global),
+      cli::make_printers_command(app, global),  cli::make_materials_command(app, global),
+      cli::make_check_command(app, global),     cli::make_flatten_command(app, global),
+      cli::make_simulate_command(app, global),  cli::make_toolpaths_command(app, global),
+      cli::make_design_command(app, global),    cli::make_heightfield_command(app, global),
+      cli::make_tiles_command(app, global),     cli::make_origami_command(app, global),
+      cli::make_calibrate_command(app, global), cli::make_report_command(app, global),
+      cli::make_view_command(app, global),
   };
 
   try {

@@ -36,9 +36,10 @@ ShapeDistance shape_distance(const Eigen::MatrixXd& shape, const Eigen::MatrixXd
   return d;
 }
 
-Eigen::MatrixXd rigidly_aligned(const Eigen::MatrixXd& shape, const Eigen::MatrixXd& target) {
+RigidFit best_rigid_fit(const Eigen::MatrixXd& shape, const Eigen::MatrixXd& target) {
   check_same_size(shape, target);
-  if (shape.rows() == 0) return shape;
+  RigidFit fit;
+  if (shape.rows() == 0) return fit;
   const Eigen::RowVector3d cs = shape.colwise().mean(), ct = target.colwise().mean();
   const Eigen::MatrixXd s = shape.rowwise() - cs, t = target.rowwise() - ct;
   const Eigen::JacobiSVD<Eigen::Matrix3d> svd(s.transpose() * t,
@@ -46,8 +47,14 @@ Eigen::MatrixXd rigidly_aligned(const Eigen::MatrixXd& shape, const Eigen::Matri
   Eigen::Matrix3d d = Eigen::Matrix3d::Identity();
   // A proper rotation: flip the weakest axis if the best orthogonal map is a reflection.
   d(2, 2) = (svd.matrixV() * svd.matrixU().transpose()).determinant() < 0 ? -1 : 1;
-  const Eigen::Matrix3d rot = svd.matrixV() * d * svd.matrixU().transpose();
-  return (s * rot.transpose()).rowwise() + ct;
+  fit.rotation = svd.matrixV() * d * svd.matrixU().transpose();
+  fit.translation = ct.transpose() - fit.rotation * cs.transpose();
+  return fit;
+}
+
+Eigen::MatrixXd rigidly_aligned(const Eigen::MatrixXd& shape, const Eigen::MatrixXd& target) {
+  const RigidFit fit = best_rigid_fit(shape, target);
+  return (shape * fit.rotation.transpose()).rowwise() + fit.translation.transpose();
 }
 
 }  // namespace flatmorph

@@ -19,8 +19,15 @@ struct ShapeDistance {
 // started from the target stays registered to it). Throws UserError when the sizes differ.
 ShapeDistance shape_distance(const Eigen::MatrixXd& shape, const Eigen::MatrixXd& target);
 
-// `shape` moved by the rotation and translation that best fit it to `target` in the least-squares
-// sense (Kabsch), for comparing shapes simulated from different starts.
+// The rotation and translation x ↦ R x + t that best fit `shape` to `target` (#V x 3, mm, row for
+// row) in the least-squares sense (Kabsch; a proper rotation, never a mirror).
+struct RigidFit {
+  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d translation = Eigen::Vector3d::Zero();
+};
+RigidFit best_rigid_fit(const Eigen::MatrixXd& shape, const Eigen::MatrixXd& target);
+
+// `shape` moved by best_rigid_fit, for comparing shapes simulated from different starts.
 Eigen::MatrixXd rigidly_aligned(const Eigen::MatrixXd& shape, const Eigen::MatrixXd& target);
 
 }  // namespace flatmorph

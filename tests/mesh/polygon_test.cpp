@@ -23,5 +23,52 @@ TEST(Polygon, SignedAreaIsTheEnclosedAreaWithTheLoopsSense) {
   EXPECT_EQ(signed_area(Eigen::MatrixX2d(0, 2)), 0);
 }
 
+Eigen::MatrixX2d square(double x, double y, double side) {
+  Eigen::MatrixX2d out(4, 2);
+  out << x, y, x + side, y, x + side, y + side, x, y + side;
+  return out;
+}
+
+// Overlap is shared area, not contact: squares side by side or corner to corner do not overlap, a
+// half-covered one does, and so does one inside the other.
+TEST(Polygon, PolygonsOverlapWhenTheyShareAreaNotWhenTheyTouch) {
+  const Eigen::MatrixX2d a = square(0, 0, 10);
+  EXPECT_FALSE(polygons_overlap(a, square(10, 0, 10)));   // a shared side
+  EXPECT_FALSE(polygons_overlap(a, square(10, 10, 10)));  // a shared corner
+  EXPECT_FALSE(polygons_overlap(a, square(30, 0, 10)));
+  EXPECT_TRUE(polygons_overlap(a, square(5, 0, 10)));
+  EXPECT_TRUE(polygons_overlap(a, square(2, 2, 1)));
+  EXPECT_TRUE(polygons_overlap(square(2, 2, 1), a));
+  EXPECT_FALSE(polygons_overlap(a, square(10 - 1e-7, 0, 10)));  // a sliver from rounding
+}
+
+// Ear clipping: #P − 2 triangles of the polygon's sense whose areas add up to the polygon's; a
+// partition, since none of them runs backwards. Checked on a comb (many reflex corners), its mirror
+// image (clockwise) and a square with a corner on a straight side.
+TEST(Polygon, TriangulatePolygonCutsASimplePolygonIntoTrianglesOfItsArea) {
+  Eigen::MatrixX2d comb(12, 2);  // three teeth up from a 7 x 1 bar
+  comb << 0, 0, 7, 0, 7, 3, 6, 3, 6, 1, 4, 1, 4, 3, 3, 3, 3, 1, 1, 1, 1, 3, 0, 3;
+  Eigen::MatrixX2d mirrored = comb;
+  mirrored.col(0) *= -1;
+  Eigen::MatrixX2d straight(5, 2);
+  straight << 0, 0, 1, 0, 2, 0, 2, 2, 0, 2;
+  for (const Eigen::MatrixX2d& polygon : {comb, mirrored, straight, square(0, 0, 1)}) {
+    const Eigen::MatrixX3i triangles = triangulate_polygon(polygon);
+    ASSERT_EQ(triangles.rows(), polygon.rows() - 2);
+    const double area = signed_area(polygon);
+    double sum = 0;
+    for (Eigen::Index t = 0; t < triangles.rows(); ++t) {
+      Eigen::MatrixX2d triangle(3, 2);
+      for (int k = 0; k < 3; ++k) triangle.row(k) = polygon.row(triangles(t, k));
+      const double part = signed_area(triangle);
+      EXPECT_GE(part * area, 0) << "triangle " << t << " runs backwards";
+      sum += part;
+    }
+    EXPECT_NEAR(sum, area, 1e-12 * std::abs(area));
+  }
+  EXPECT_NEAR(signed_area(comb), 13, 1e-12);
+  EXPECT_THROW(triangulate_polygon(Eigen::MatrixX2d(2, 2)), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace flatmorph

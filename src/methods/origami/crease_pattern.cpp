@@ -24,8 +24,7 @@ int CreasePattern::other_face(int c, int f) const {
 bool CreasePattern::is_hinge(int c) const {
   const Crease& crease = creases[c];
   if (crease.kind != CreaseKind::kMountain && crease.kind != CreaseKind::kValley) return false;
-  return parent_crease[crease.left] == c ||
-         (crease.right >= 0 && parent_crease[crease.right] == c);
+  return parent_crease[crease.left] == c || (crease.right >= 0 && parent_crease[crease.right] == c);
 }
 
 CreasePattern crease_pattern_of_net(const Unfolding& unfolding, int net, const std::string& name,
@@ -42,7 +41,8 @@ CreasePattern crease_pattern_of_net(const Unfolding& unfolding, int net, const s
   // A corner of the sheet per (face, corner); a hinge welds the corners its two faces share.
   std::vector<int> first_corner(solid_faces.size() + 1, 0);
   for (size_t i = 0; i < solid_faces.size(); ++i) {
-    first_corner[i + 1] = first_corner[i] + static_cast<int>(unfolding.faces[solid_faces[i]].size());
+    first_corner[i + 1] =
+        first_corner[i] + static_cast<int>(unfolding.faces[solid_faces[i]].size());
   }
   std::vector<int> weld(first_corner.back());
   std::iota(weld.begin(), weld.end(), 0);
@@ -121,12 +121,28 @@ CreasePattern crease_pattern_of_net(const Unfolding& unfolding, int net, const s
     const double angle = unfolding.fold_angle(e);
     crease.fold_angle = std::abs(angle) < flat_angle ? 0.0 : angle;
     crease.kind = std::abs(angle) < flat_angle ? CreaseKind::kFlat
-                  : angle > 0                   ? CreaseKind::kValley
-                                                : CreaseKind::kMountain;
+                  : angle > 0                  ? CreaseKind::kValley
+                                               : CreaseKind::kMountain;
     out.parent_crease[local[f]] = it->second;
   }
   for (int f : unfolding.nets[net].faces) out.fold_order.push_back(local[f]);
   out.solid_face = solid_faces;
+  return out;
+}
+
+CreasePattern turned_over(const CreasePattern& pattern) {
+  CreasePattern out = pattern;
+  out.V.col(1) *= -1;
+  for (std::vector<int>& face : out.faces) std::reverse(face.begin(), face.end());
+  for (Crease& crease : out.creases) {
+    std::swap(crease.v0, crease.v1);  // still counter-clockwise around its left face
+    crease.fold_angle = -crease.fold_angle;
+    if (crease.kind == CreaseKind::kMountain) {
+      crease.kind = CreaseKind::kValley;
+    } else if (crease.kind == CreaseKind::kValley) {
+      crease.kind = CreaseKind::kMountain;
+    }
+  }
   return out;
 }
 

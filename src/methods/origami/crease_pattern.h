@@ -52,17 +52,22 @@ struct CreasePattern {
 CreasePattern crease_pattern_of_net(const Unfolding& unfolding, int net, const std::string& name,
                                     double flat_angle);
 
+// The sheet turned over (printed with its other side up): y ↦ −y, every face still
+// counter-clockwise from +z, mountains become valleys and fold angles change sign. Folded, it gives
+// the same solid, turned half a turn about the x axis.
+CreasePattern turned_over(const CreasePattern& pattern);
+
 // How one hinge's actuator is printed and bends (notes §4-5): it bends to an arc of `radius`,
 // so it is W = r|θ| wide, each face gives up L/2 = r tan(|θ|/2) along it, and the child side moves
 // δ = L − W toward the parent. Case A (PLA on the bed, TPU on top) curls the faces toward the bed:
 // a mountain seen from above; case B (TPU on the bed) a valley.
 struct HingeDesign {
-  int crease = 0;         // index into CreasePattern::creases
-  double fold_angle = 0;  // rad, signed as the crease's
-  double radius = 0;      // r, mm
-  double width = 0;       // W = r|θ|, mm
-  double cut = 0;         // L = 2 r tan(|θ|/2), mm
-  double shift = 0;       // δ = L − W, mm
+  int crease = 0;          // index into CreasePattern::creases
+  double fold_angle = 0;   // rad, signed as the crease's
+  double radius = 0;       // r, mm
+  double width = 0;        // W = r|θ|, mm
+  double cut = 0;          // L = 2 r tan(|θ|/2), mm
+  double shift = 0;        // δ = L − W, mm
   bool pla_on_bed = true;  // case A; false: case B
   double pla_speed = 0;    // mm/s, the active PLA lines
 };

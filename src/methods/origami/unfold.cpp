@@ -1,7 +1,5 @@
 #include "methods/origami/unfold.h"
 
-#include <clipper.hpp>
-
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
@@ -13,36 +11,6 @@
 
 namespace flatmorph {
 namespace {
-
-// Clipper's integer plane: 1 nm per unit keeps every net of a printer's bed far inside its range.
-constexpr double kClipperScale = 1e6;
-
-ClipperLib::Path to_clipper(const Eigen::MatrixX2d& polygon) {
-  ClipperLib::Path path;
-  for (Eigen::Index i = 0; i < polygon.rows(); ++i) {
-    path.emplace_back(static_cast<ClipperLib::cInt>(std::llround(polygon(i, 0) * kClipperScale)),
-                      static_cast<ClipperLib::cInt>(std::llround(polygon(i, 1) * kClipperScale)));
-  }
-  return path;
-}
-
-// Overlapping by more than a sliver: rounding to Clipper's grid leaves slivers of about 1e-6 mm
-// along a shared edge, which are no overlap.
-bool polygons_overlap(const Eigen::MatrixX2d& a, const Eigen::MatrixX2d& b) {
-  const Eigen::Array2d a_min = a.colwise().minCoeff(), a_max = a.colwise().maxCoeff();
-  const Eigen::Array2d b_min = b.colwise().minCoeff(), b_max = b.colwise().maxCoeff();
-  if ((a_max < b_min).any() || (b_max < a_min).any()) return false;
-  ClipperLib::Clipper clipper;
-  clipper.AddPath(to_clipper(a), ClipperLib::ptSubject, true);
-  clipper.AddPath(to_clipper(b), ClipperLib::ptClip, true);
-  ClipperLib::Paths common;
-  clipper.Execute(ClipperLib::ctIntersection, common, ClipperLib::pftNonZero,
-                  ClipperLib::pftNonZero);
-  double area = 0;
-  for (const ClipperLib::Path& path : common) area += std::abs(ClipperLib::Area(path));
-  area /= kClipperScale * kClipperScale;
-  return area > 1e-4 * std::min(std::abs(signed_area(a)), std::abs(signed_area(b)));
-}
 
 // Face f of the solid in its own plane (face_to_plane), as 2D corners.
 Eigen::MatrixX2d face_in_plane(const Polyhedron& solid, int f) {
@@ -158,9 +126,15 @@ Unfolding unfold(const Polyhedron& solid, const UnfoldOptions& options) {
     local[f] = face_in_plane(solid, f);
     area[f] = signed_area(local[f]);
   }
-  std::vector<double> length(num_edges);
+  double mountains = 0, valleys = 0;
   for (int e = 0; e < num_edges; ++e) {
-    length[e] = (solid.V.row(out.edges[e].v0) - solid.V.row(out.edges[e].v1)).norm();
+    (out.fold_angle(e) < 0 ? mountains : valleys) += std::abs(out.fold_angle(e));
+  }
+  std::vector<double> hinge_weight(num_edges);  // the spanning tree keeps the heaviest
+  for (int e = 0; e < num_edges; ++e) {
+    hinge_weight[e] = (solid.V.row(out.edges[e].v0) - solid.V.row(out.edges[e].v1)).norm();
+    const bool minority = valleys > mountains ? out.fold_angle(e) < 0 : out.fold_angle(e) > 0;
+    if (minority) hinge_weight[e] *= options.minority_weight;
   }
   std::vector<std::vector<int>> face_edges(num_faces);
   for (int e = 0; e < num_edges; ++e) {
@@ -221,7 +195,7 @@ Unfolding unfold(const Polyhedron& solid, const UnfoldOptions& options) {
   std::uniform_real_distribution<double> jitter(0.0, 1.0);
   std::vector<int> first_hinges;
   for (int attempt = 0; attempt < std::max(1, options.tries); ++attempt) {
-    std::vector<double> weight = length;
+    std::vector<double> weight = hinge_weight;
     if (attempt > 0) {
       for (double& w : weight) w *= 1 + jitter(random);
     }

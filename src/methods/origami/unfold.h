@@ -17,6 +17,10 @@ struct UnfoldOptions {
   // hinges (strong, and the faces stay compact); the others perturb those weights (a fixed seed:
   // the same solid gives the same nets).
   int tries = 200;
+  // The weight of a hinge whose fold runs against most of the solid's folding (a valley of a mostly
+  // convex solid), as a share of its length: such hinges print the weaker case B actuator, which
+  // is wider, so a tree that cuts them instead folds on narrower actuators. 1: length alone.
+  double minority_weight = 1;
 };
 
 struct Net {

@@ -67,7 +67,8 @@ TEST(CreasePattern, AFoldBelowTheFlatAngleIsAFlatCreaseAndNoHinge) {
       10 + 10 * std::cos(a), 10, -10 * std::sin(a);
   roof.faces = {{0, 1, 2, 3}, {1, 4, 5, 2}};
   roof.source = "roof";
-  const CreasePattern sheet = crease_pattern_of_net(unfold(roof), 0, "net 1", 1.0 * std::numbers::pi / 180);
+  const CreasePattern sheet =
+      crease_pattern_of_net(unfold(roof), 0, "net 1", 1.0 * std::numbers::pi / 180);
   int flats = 0;
   for (int c = 0; c < static_cast<int>(sheet.creases.size()); ++c) {
     if (sheet.creases[c].kind == CreaseKind::kFlat) {

@@ -18,8 +18,7 @@ TEST(SolidEstimate, ThePlatonicSolidsHaveTheirVolumeAndArea) {
   EXPECT_NEAR(polyhedron_area(polyhedron_example("cube", a)), 6 * a * a, 1e-9);
   EXPECT_NEAR(polyhedron_volume(polyhedron_example("tetrahedron", a)),
               a * a * a / (6 * std::sqrt(2.0)), 1e-9);
-  EXPECT_NEAR(polyhedron_area(polyhedron_example("tetrahedron", a)), std::sqrt(3.0) * a * a,
-              1e-9);
+  EXPECT_NEAR(polyhedron_area(polyhedron_example("tetrahedron", a)), std::sqrt(3.0) * a * a, 1e-9);
   EXPECT_NEAR(polyhedron_volume(polyhedron_example("dodecahedron", a)),
               (15 + 7 * std::sqrt(5.0)) / 4 * a * a * a, 1e-6);
   EXPECT_NEAR(polyhedron_volume(polyhedron_example("icosahedron", a)),

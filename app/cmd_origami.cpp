@@ -1,0 +1,375 @@
+// flatmorph origami: Thermorph's self-folding sheets (CHI 2018) from a mesh, a drawn crease
+// pattern or a built-in solid to a run folder: the nets with their actuators, the folded shape,
+// the two-material G-code and what printing the solid would have cost.
+#include <fmt/core.h>
+#include <fmt/ranges.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <numbers>
+#include <optional>
+#include <sstream>
+#include <string>
+
+#include "commands.h"
+#include "common/error.h"
+#include "gcode/printer_profile.h"
+#include "material/material.h"
+#include "mesh/io.h"
+#include "methods/origami/crease_pattern_svg.h"
+#include "methods/origami/design_origami.h"
+#include "methods/origami/fold_file.h"
+#include "methods/origami/net_svg.h"
+#include "methods/origami/planar_faces.h"
+#include "methods/origami/solid_estimate.h"
+#include "print_summary.h"
+#include "progress_display.h"
+#include "run/print_plan.h"
+#include "run/run_folder.h"
+
+namespace flatmorph::cli {
+namespace {
+
+constexpr double kDegree = std::numbers::pi / 180;
+
+struct OrigamiCliOptions {
+  std::string input;  // a mesh (.obj, .ply, .stl, .off) or a crease pattern (.svg)
+  std::string example;
+  int faces = 70;
+  double size_mm = 0;
+  std::string material = "pla-generic";
+  std::string hinge_material = "tpu-generic";
+  std::string printer = "prusa-xl-2t";
+  double actuator_speed = 150;
+  double actuator_width = 0;
+  double flat_angle_deg = 1;
+  bool slicer = true;
+  bool gcode = true;
+  bool json = false;
+  std::string output;
+};
+
+void require(bool ok, const std::string& message) {
+  if (!ok) throw UserError(ErrorCategory::kOption, message);
+}
+
+// Checked before anything is read or written, so that a bad value leaves no output behind.
+void check(const OrigamiCliOptions& o) {
+  require(o.input.empty() != o.example.empty(),
+          o.input.empty()
+              ? fmt::format("flatmorph origami needs a solid: a mesh (.obj, .ply, .stl, .off), a "
+                            "crease pattern (.svg) or --example NAME ({})",
+                            fmt::join(origami_example_names(), ", "))
+              : "give either a file or --example, not both");
+  require(!o.output.empty(), "flatmorph origami needs an output folder: -o DIR");
+  require(o.faces >= 4 && o.faces <= 500,
+          fmt::format("--faces {}: give 4 to 500 (the paper folds its bunny from 70)", o.faces));
+  require(o.size_mm >= 0 && o.size_mm <= 2000 && std::isfinite(o.size_mm),
+          fmt::format("--size {}: give the solid's longest side in mm (0: as given)", o.size_mm));
+  require(o.actuator_speed > 0 && o.actuator_speed <= 1000,
+          fmt::format("--actuator-speed {}: give the active PLA's print speed in mm/s (150 = "
+                      "the paper's 9000 mm/min)",
+                      o.actuator_speed));
+  require(o.actuator_width >= 0 && o.actuator_width <= 100,
+          fmt::format("--actuator-width {}: give a width in mm, or 0 to take it from the speed",
+                      o.actuator_width));
+  require(o.flat_angle_deg >= 0 && o.flat_angle_deg < 30,
+          fmt::format("--flat-angle {}: give degrees in [0, 30)", o.flat_angle_deg));
+}
+
+std::string read_text(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    throw UserError(ErrorCategory::kFile, fmt::format("{}: cannot open the file: check the path "
+                                                      "and that it is readable",
+                                                      path));
+  }
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// The solid as a Wavefront OBJ of its polygon faces (solid.obj: MeshLab and Blender keep the
+// polygons).
+std::string solid_obj(const Polyhedron& solid) {
+  std::string out = "# flatmorph origami: the solid the sheets fold into, mm\n";
+  for (Eigen::Index v = 0; v < solid.V.rows(); ++v) {
+    out += fmt::format("v {} {} {}\n", solid.V(v, 0), solid.V(v, 1), solid.V(v, 2));
+  }
+  for (const std::vector<int>& face : solid.faces) {
+    out += "f";
+    for (int v : face) out += fmt::format(" {}", v + 1);
+    out += "\n";
+  }
+  return out;
+}
+
+nlohmann::ordered_json hinges_json(const OrigamiSheet& sheet) {
+  nlohmann::ordered_json hinges = nlohmann::ordered_json::array();
+  for (const Actuator& actuator : sheet.sheet.actuators) {
+    const HingeDesign& h = actuator.hinge;
+    nlohmann::ordered_json j;
+    j["faces"] = {actuator.parent_face + 1, actuator.child_face + 1};
+    j["fold_angle_deg"] = h.fold_angle / kDegree;
+    j["kind"] = h.fold_angle < 0 ? "mountain" : "valley";
+    j["case"] = h.pla_on_bed ? "A" : "B";
+    j["radius_mm"] = h.radius;
+    j["width_mm"] = h.width;
+    j["cut_mm"] = h.cut;
+    j["shift_mm"] = h.shift;
+    j["pla_speed_mm_s"] = h.pla_speed;
+    hinges.push_back(j);
+  }
+  return hinges;
+}
+
+int run_origami(const OrigamiCliOptions& o, const GlobalOptions& global) {
+  check(o);
+  OrigamiOptions options;
+  options.pla = load_material(o.material);
+  options.tpu = load_material(o.hinge_material);
+  const PrinterProfile printer = load_printer(o.printer);
+  require_run_folder_destination(o.output);
+  const bool silent = global.quiet || o.json;
+  options.progress = make_progress_display(silent);
+  options.actuator_speed = o.actuator_speed;
+  options.actuator_width = o.actuator_width;
+  options.flat_angle = o.flat_angle_deg * kDegree;
+  options.print.line_width = printer.nozzle_diameter;
+  // The sheets go on the bed with a margin for the skirt and the primes.
+  const double margin = 10;
+  options.room = printer.bed_shape == BedShape::kCircular
+                     ? Eigen::Vector2d::Constant(printer.bed_size.x() / std::sqrt(2.0) - margin)
+                     : Eigen::Vector2d(printer.bed_size.array() - 2 * margin);
+
+  std::vector<std::string> notes;
+  OrigamiDesign design;
+  const bool drawn = !o.input.empty() && std::filesystem::path(o.input).extension() == ".svg";
+  if (drawn) {
+    CreasePatternReadOptions read;
+    read.flat_angle = options.flat_angle;
+    read.name = std::filesystem::path(o.input).stem().string();
+    const CreasePattern pattern =
+        read_crease_pattern_svg(read_text(o.input), o.input, read, &notes);
+    design = design_origami_pattern(pattern, options);
+  } else {
+    PlanarFacesOptions simplify;
+    simplify.max_faces = o.faces;
+    Polyhedron solid = o.example.empty()
+                           ? planar_faces(read_mesh(o.input).mesh, o.input, simplify, &notes)
+                           : origami_example(o.example, o.faces);
+    if (o.size_mm > 0) solid = scaled_to_size(solid, o.size_mm);
+    design = design_origami(solid, options);
+  }
+  for (const std::string& warning : design.warnings) notes.push_back(warning);
+  const OrigamiPlate plate = origami_plate(design, options);
+
+  std::optional<PrintPlan> plan;
+  if (o.gcode) {
+    plan = plan_toolpath_print(traced_layer_paths(design.toolpath), plate.plate.plate,
+                               plate.plate.F, {options.pla, options.tpu}, printer, {});
+  }
+  std::optional<SolidPrintEstimate> solid_estimate, slicer_estimate;
+  std::string slicer_why;
+  if (design.solid) {
+    solid_estimate = estimate_solid_print(*design.solid, options.pla, printer.filament_diameter);
+    if (o.slicer) {
+      slicer_estimate =
+          slicer_solid_print(*design.solid, printer.filament_diameter, 300, &slicer_why);
+    }
+  }
+
+  std::vector<RunFile> files;
+  nlohmann::ordered_json sheets = nlohmann::ordered_json::array();
+  for (size_t i = 0; i < design.sheets.size(); ++i) {
+    const OrigamiSheet& sheet = design.sheets[i];
+    const std::string stem = design.sheets.size() == 1 ? "" : fmt::format("_{}", i + 1);
+    const std::vector<Eigen::MatrixX3d> sharp = fold_sharp(sheet.pattern, 1.0);
+    files.push_back({"net" + stem + ".svg", net_svg(sheet.pattern, sheet.sheet)});
+    files.push_back({"crease_pattern" + stem + ".svg", crease_pattern_svg(sheet.pattern)});
+    files.push_back({"pattern" + stem + ".fold", fold_json(sheet.pattern, &sheet.hinges, &sharp)});
+    nlohmann::ordered_json s;
+    s["name"] = sheet.pattern.name;
+    s["faces"] = sheet.pattern.num_faces();
+    s["root_face"] = sheet.pattern.root + 1;
+    s["turned_over"] = sheet.turned_over;
+    std::vector<int> order;
+    for (int f : sheet.pattern.fold_order) order.push_back(f + 1);
+    s["fold_order"] = order;
+    if (!sheet.pattern.solid_face.empty() && sheet.pattern.solid_face[0] >= 0) {
+      std::vector<int> solid_face;
+      for (int f : sheet.pattern.solid_face) solid_face.push_back(f + 1);
+      s["solid_face"] = solid_face;
+    }
+    s["hinges"] = hinges_json(sheet);
+    s["corner_gap_mm"] = sheet.corner_gap;
+    if (sheet.collision) {
+      s["collision"] = {{"pieces",
+                         {piece_name(sheet.sheet, sheet.collision->piece_a),
+                          piece_name(sheet.sheet, sheet.collision->piece_b)}},
+                        {"progress", sheet.collision->progress},
+                        {"avoided_in_fold_order", !sheet.order_collision}};
+    }
+    sheets.push_back(s);
+  }
+  if (design.solid) files.push_back({"solid.obj", solid_obj(*design.solid)});
+
+  nlohmann::ordered_json j;
+  j["input"] = o.example.empty() ? o.input : "example " + o.example;
+  j["max_faces"] = o.faces;
+  j["size_mm"] = o.size_mm;
+  j["material"] = options.pla.name;
+  j["hinge_material"] = options.tpu.name;
+  j["printer"] = printer.name;
+  j["actuator_speed_mm_s"] = o.actuator_speed;
+  j["actuator_width_mm"] = o.actuator_width;
+  j["flat_angle_deg"] = o.flat_angle_deg;
+  j["hinge_curve"] = design.curve.calibrated ? "calibrated" : "uncalibrated default";
+  j["sheets"] = sheets;
+  if (!notes.empty()) j["notes"] = notes;
+
+  nlohmann::ordered_json m;
+  int hinges = 0;
+  for (const OrigamiSheet& sheet : design.sheets) hinges += sheet.sheet.actuators.size();
+  m["sheets"] = design.sheets.size();
+  m["hinges"] = hinges;
+  if (design.solid) {
+    m["faces"] = design.solid->faces.size();
+    m["fold_angle_error_rad"] = design.fold_angle_error;
+    m["sharp_fold_error_pct"] = design.sharp_error_pct;
+    m["curved_plane_error_pct"] = design.curved_plane_error_pct;
+  }
+  bool collides = false;
+  for (const OrigamiSheet& sheet : design.sheets) collides = collides || sheet.collision;
+  m["collision"] = collides;
+  m["t_unfold_s"] = design.times.unfold;
+  m["t_actuate_s"] = design.times.actuate;
+  m["t_fold_s"] = design.times.fold;
+  m["t_toolpath_s"] = design.times.toolpath;
+  m["t_design_s"] = design.times.total;
+  if (plan) {
+    m["print_time_s"] = plan->gcode.print_time;
+    m["filament_g"] = plan->gcode.filament_mass;
+    m["tool_changes"] = plan->gcode.tool_changes;
+  }
+  const SolidPrintEstimate* solid_print = slicer_estimate  ? &*slicer_estimate
+                                          : solid_estimate ? &*solid_estimate
+                                                           : nullptr;
+  if (solid_print) {
+    m["solid_print_time_s"] = solid_print->time_s;
+    m["solid_filament_mm"] = solid_print->filament_mm;
+    j["solid_print_estimate"] = solid_print->source;
+    if (!slicer_estimate && o.slicer) j["slicer"] = slicer_why;
+    if (plan) {
+      m["time_saving_pct"] = 100 * (1 - plan->gcode.print_time / solid_print->time_s);
+      m["filament_saving_pct"] = 100 * (1 - plan->gcode.filament_length / solid_print->filament_mm);
+    }
+  }
+
+  RunOutputs run;
+  run.method = "origami";
+  run.plate = plate.plate;
+  run.predicted = plate.folded;
+  run.print = std::move(plan);
+  run.files = std::move(files);
+  run.parameters = j;
+  run.metrics = m;
+  run.metric_list = run_metric_list(m);
+  write_run_folder(o.output, run, &printer, options.progress);
+  const nlohmann::ordered_json record = run_record(run);
+
+  finish_progress_line();
+  for (const std::string& note : notes) fmt::print(stderr, "flatmorph: note: {}\n", note);
+  if (o.json) fmt::print("{}\n", record.dump(2));
+  if (silent) return 0;
+  if (run.print) print_gcode_summary(*run.print, printer);
+  for (const OrigamiSheet& sheet : design.sheets) {
+    int mountains = 0;
+    for (const Actuator& a : sheet.sheet.actuators) mountains += a.hinge.fold_angle < 0;
+    fmt::print("{}: {} faces, {} hinges ({} mountains, case A; {} valleys, case B){}\n",
+               sheet.pattern.name, sheet.pattern.num_faces(), sheet.sheet.actuators.size(),
+               mountains, sheet.sheet.actuators.size() - mountains,
+               sheet.turned_over ? ", printed inside up" : "");
+  }
+  if (design.solid) {
+    fmt::print(
+        "folded back: corners within {:.2g} % of the diagonal (sharp), faces within {:.2g} % "
+        "of their planes (curved); hinge curve {}\n",
+        design.sharp_error_pct, design.curved_plane_error_pct,
+        design.curve.calibrated ? "calibrated" : "uncalibrated default");
+  }
+  if (solid_print && run.print) {
+    fmt::print(
+        "the solid itself ({}): {:.0f} min, {:.0f} mm of filament; the sheet saves {:.0f} % "
+        "of the time and {:.0f} % of the filament\n",
+        solid_print->source, solid_print->time_s / 60, solid_print->filament_mm,
+        m["time_saving_pct"].get<double>(), m["filament_saving_pct"].get<double>());
+  }
+  fmt::print("design time {:.2f} s\n", design.times.total);
+  fmt::print(
+      "wrote {}: net.svg, crease_pattern.svg, pattern.fold, simulated.ply (folded), flat.ply"
+      "{}, design.json, report.html\n",
+      o.output, run.print ? ", plate.gcode, toolpath.json, layers/" : "");
+  return 0;
+}
+
+}  // namespace
+
+Command make_origami_command(CLI::App& app, const GlobalOptions& global) {
+  auto o = std::make_shared<OrigamiCliOptions>();
+  CLI::App* sub = app.add_subcommand(
+      "origami",
+      "Self-folding origami (Thermorph, CHI 2018): the solid simplified to planar faces, "
+      "unfolded into nets, every fold given a curved actuator (active PLA lines across the hinge "
+      "on a TPU layer) whose width bends it by the fold's angle, printed in two materials "
+      "(two tools, or pauses to swap the filament). In 70 C water the sheet folds into the "
+      "solid. Writes DIR/net.svg (the printed sheet), DIR/crease_pattern.svg and DIR/pattern.fold "
+      "(Origami Simulator opens both), DIR/simulated.ply (the folded sheet), DIR/flat.ply, "
+      "DIR/plate.gcode, DIR/layers/, DIR/design.json and DIR/report.html. docs/origami.md explains "
+      "each step.");
+  sub->add_option("input", o->input,
+                  "A mesh (.obj, .ply, .stl, .off: simplified to at most --faces planar faces) or "
+                  "a crease pattern (.svg: outline black, mountains red, valleys blue, the angle "
+                  "from data-fold-angle or the stroke opacity x 180 deg, as Origami Simulator)");
+  sub->add_option("--example", o->example,
+                  "A built-in solid: tetrahedron, cube, octahedron, dodecahedron, icosahedron, "
+                  "pyramid or bunny");
+  sub->add_option("--faces", o->faces, "At most this many faces (meshes and the bunny)")
+      ->capture_default_str();
+  sub->add_option("--size", o->size_mm,
+                  "The solid's longest side, mm (0: as the file gives it; examples have their "
+                  "own)")
+      ->capture_default_str();
+  sub->add_option("--material", o->material,
+                  "The PLA of the faces and the actuators (see 'flatmorph materials'); its "
+                  "hinge_curve, when calibrated, sets how far a hinge bends")
+      ->capture_default_str();
+  sub->add_option("--hinge-material", o->hinge_material, "The actuators' constraint layer (TPU)")
+      ->capture_default_str();
+  sub->add_option("--printer", o->printer,
+                  "Printer preset or JSON file: two tools (T0 PLA, T1 TPU) or one with a "
+                  "filament swap (see 'flatmorph printers')")
+      ->capture_default_str();
+  sub->add_option("--actuator-speed", o->actuator_speed,
+                  "Print speed of the actuators' active PLA, mm/s: faster stores more stretch and "
+                  "bends on a tighter arc (narrower actuators)")
+      ->capture_default_str();
+  sub->add_option("--actuator-width", o->actuator_width,
+                  "Make every actuator this wide, mm, and solve each one's speed from its angle "
+                  "(0: the width follows from --actuator-speed)")
+      ->capture_default_str();
+  sub->add_option("--flat-angle", o->flat_angle_deg,
+                  "Folds of less than this many degrees print no actuator")
+      ->capture_default_str();
+  sub->add_flag("!--no-slicer", o->slicer,
+                "Do not run PrusaSlicer (when installed) for the solid's print time; use the "
+                "volume estimate");
+  sub->add_flag("!--no-gcode", o->gcode, "Skip the G-code");
+  sub->add_flag("--json", o->json, "Print design.json on stdout at the end instead of the summary");
+  sub->add_option("-o,--output", o->output, "Output folder (created if needed)")->required();
+  return {sub, [o, &global] { return run_origami(*o, global); }};
+}
+
+}  // namespace flatmorph::cli

@@ -1,0 +1,374 @@
+#include "methods/origami/design_origami.h"
+
+#include <fmt/core.h>
+#include <fmt/ranges.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <numbers>
+
+#include "common/error.h"
+#include "methods/origami/bunny.h"
+#include "methods/origami/sheet_layout.h"
+#include "plate/actuator_stack.h"
+#include "plate/layer_stack.h"
+#include "simulate/distance.h"
+
+namespace flatmorph {
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// The curve the hinges fold by: the PLA's calibrated one, else the laminate's default for this
+// actuator.
+HingeCurve hinge_curve_of(const OrigamiOptions& options) {
+  if (options.pla.hinge_curve) return *options.pla.hinge_curve;
+  return default_hinge_curve(options.pla, options.tpu, options.print.stack);
+}
+
+// Mountains print case A (PLA on the bed: the stronger, more repeatable bend, notes §3), so the
+// sheet goes the side up that makes most of the folding (by |θ|) mountains.
+bool mostly_valleys(const CreasePattern& pattern) {
+  double mountains = 0, valleys = 0;
+  for (int c = 0; c < static_cast<int>(pattern.creases.size()); ++c) {
+    if (!pattern.is_hinge(c)) continue;
+    const double angle = pattern.creases[c].fold_angle;
+    (angle < 0 ? mountains : valleys) += std::abs(angle);
+  }
+  return valleys > mountains;
+}
+
+// Per hinge: case A for a mountain, B for a valley; r from the curve at the actuator speed, or
+// the speed from the curve at the fixed width.
+std::vector<HingeDesign> design_hinges(const CreasePattern& pattern, const HingeCurve& curve,
+                                       const OrigamiOptions& options) {
+  std::vector<HingeDesign> hinges;
+  for (int c = 0; c < static_cast<int>(pattern.creases.size()); ++c) {
+    if (!pattern.is_hinge(c)) continue;
+    const Crease& crease = pattern.creases[c];
+    const bool pla_on_bed = crease.fold_angle < 0;
+    double speed = options.actuator_speed;
+    double curvature = 0;
+    try {
+      if (options.actuator_width > 0) {
+        curvature = std::abs(crease.fold_angle) / options.actuator_width;
+        speed = hinge_speed_for_curvature(curve, curvature, pla_on_bed);
+      } else {
+        curvature = hinge_curvature(curve, speed, pla_on_bed);
+      }
+    } catch (const UserError& e) {
+      throw UserError(
+          e.category(),
+          fmt::format("{}: the hinge between faces {} and {} folds {:.1f}° ({}): {}", pattern.name,
+                      crease.left + 1, crease.right + 1, crease.fold_angle * 180 / std::numbers::pi,
+                      hinge_case_name(pla_on_bed), e.what()));
+    }
+    hinges.push_back(hinge_design(c, crease.fold_angle, 1 / curvature, pla_on_bed, speed));
+  }
+  return hinges;
+}
+
+// Actuates, lays on the bed, folds and checks each pattern; the toolpath of them all.
+void make_sheets(std::vector<CreasePattern> patterns, const OrigamiOptions& options,
+                 OrigamiDesign& design) {
+  const auto start = std::chrono::steady_clock::now();
+  std::vector<Eigen::AlignedBox2d> boxes;
+  std::vector<std::string> names;
+  for (CreasePattern& pattern : patterns) {
+    OrigamiSheet sheet;
+    sheet.turned_over = mostly_valleys(pattern);
+    sheet.pattern = sheet.turned_over ? turned_over(pattern) : std::move(pattern);
+    sheet.hinges = design_hinges(sheet.pattern, design.curve, options);
+    sheet.sheet = actuate(sheet.pattern, sheet.hinges, options.actuate);
+    sheet.sheet.name = sheet.pattern.name;
+    const std::vector<std::pair<int, int>> overlaps = sheet_overlaps(sheet.sheet);
+    if (!overlaps.empty()) {
+      throw UserError(
+          ErrorCategory::kInfeasible,
+          fmt::format("{}: with its actuators in place, {} and {} overlap in the flat sheet: "
+                      "print the actuators narrower (a faster --actuator-speed) or make the "
+                      "solid larger (--size)",
+                      sheet.pattern.name, piece_name(sheet.sheet, overlaps[0].first),
+                      piece_name(sheet.sheet, overlaps[0].second)));
+    }
+    // Turned so that its smallest bounding rectangle lies along the axes, then placed below.
+    const double angle = min_area_rectangle_angle(sheet_points(sheet.sheet));
+    place_sheet(angle, Eigen::Vector2d::Zero(), sheet.pattern, sheet.sheet);
+    const Eigen::MatrixX2d points = sheet_points(sheet.sheet);
+    boxes.emplace_back(points.colwise().minCoeff().transpose(),
+                       points.colwise().maxCoeff().transpose());
+    names.push_back(sheet.pattern.name);
+    design.sheets.push_back(std::move(sheet));
+  }
+  const std::vector<Eigen::Vector2d> corners =
+      pack_in_rows(boxes, names, options.room, options.sheet_gap);
+  for (size_t i = 0; i < design.sheets.size(); ++i) {
+    place_sheet(0, corners[i] - boxes[i].min(), design.sheets[i].pattern, design.sheets[i].sheet);
+  }
+  design.times.actuate = seconds_since(start);
+
+  const auto fold_start = std::chrono::steady_clock::now();
+  for (size_t i = 0; i < design.sheets.size(); ++i) {
+    OrigamiSheet& sheet = design.sheets[i];
+    report_progress(options.progress,
+                    {"fold", static_cast<int>(i) + 1, static_cast<int>(design.sheets.size()), NAN,
+                     sheet.pattern.name});
+    sheet.folded = fold_curved(sheet.pattern, sheet.sheet, 1.0, 8);
+    sheet.collision = first_collision(sheet.pattern, sheet.sheet, options.fold_steps, false);
+    sheet.order_collision = first_collision(sheet.pattern, sheet.sheet, options.fold_steps, true);
+    sheet.corner_gap = largest_corner_gap(sheet.pattern, sheet.sheet);
+    sheet.loop_closure = loop_closure_error(sheet.pattern);
+    if (sheet.collision) {
+      design.warnings.push_back(fmt::format(
+          "{}: folding every hinge together, {} runs into {} at {:.0f} % of the fold{}",
+          sheet.pattern.name, piece_name(sheet.sheet, sheet.collision->piece_a),
+          piece_name(sheet.sheet, sheet.collision->piece_b), 100 * sheet.collision->progress,
+          sheet.order_collision ? "; folding hinge after hinge does not avoid it"
+                                : "; folding hinge after hinge in the fold order avoids it: "
+                                  "hold the faces back as the report shows"));
+    }
+  }
+  design.times.fold = seconds_since(fold_start);
+
+  const auto toolpath_start = std::chrono::steady_clock::now();
+  report_progress(options.progress, {"toolpath", 0, 0, NAN, "faces in PLA, actuators in PLA/TPU"});
+  for (const OrigamiSheet& sheet : design.sheets) {
+    const Toolpath part = origami_toolpath(sheet.sheet, options.print);
+    if (design.toolpath.layers.empty()) {
+      design.toolpath = part;
+      continue;
+    }
+    for (size_t k = 0; k < part.layers.size(); ++k) {
+      std::vector<PathPolyline>& paths = design.toolpath.layers[k].paths;
+      paths.insert(paths.end(), part.layers[k].paths.begin(), part.layers[k].paths.end());
+    }
+  }
+  design.times.toolpath = seconds_since(toolpath_start);
+}
+
+}  // namespace
+
+OrigamiPlate origami_plate(const OrigamiDesign& design, const OrigamiOptions& options,
+                           int arc_steps) {
+  const HingeStack& stack = options.print.stack;
+  const int num_layers = stack.pla_layers + stack.tpu_layers;
+  std::vector<Eigen::MatrixXd> flat_parts, folded_parts;
+  std::vector<Eigen::MatrixXi> face_parts;
+  std::vector<Layer> layers;
+  std::vector<double> piece, sheet_of;
+  int num_vertices = 0;
+  for (size_t s = 0; s < design.sheets.size(); ++s) {
+    const OrigamiSheet& sheet = design.sheets[s];
+    const Mesh flat = folded_mesh(fold_curved(sheet.pattern, sheet.sheet, 0.0, arc_steps));
+    const Mesh folded = folded_mesh(fold_curved(sheet.pattern, sheet.sheet, 1.0, arc_steps));
+    flat_parts.push_back(flat.V.leftCols(2));
+    folded_parts.push_back(folded.V);
+    face_parts.push_back(flat.F.array() + num_vertices);
+    num_vertices += flat.num_vertices();
+    // folded_mesh's order: each face's n − 2 triangles, then 2 per arc step of each actuator.
+    for (size_t f = 0; f < sheet.sheet.faces.size(); ++f) {
+      piece.insert(piece.end(), sheet.sheet.faces[f].rows() - 2, static_cast<double>(f));
+    }
+    for (size_t a = 0; a < sheet.sheet.actuators.size(); ++a) {
+      piece.insert(piece.end(), 2 * arc_steps, static_cast<double>(sheet.sheet.faces.size() + a));
+    }
+    sheet_of.resize(piece.size(), static_cast<double>(s));
+  }
+  OrigamiPlate out;
+  PlateDesign& plate = out.plate;
+  plate.method = "origami";
+  plate.plate.resize(num_vertices, 2);
+  out.folded.V.resize(num_vertices, 3);
+  Eigen::Index rows = 0, v = 0;
+  for (const Eigen::MatrixXi& F : face_parts) rows += F.rows();
+  plate.F.resize(rows, 3);
+  rows = 0;
+  for (size_t s = 0; s < flat_parts.size(); ++s) {
+    plate.plate.middleRows(v, flat_parts[s].rows()) = flat_parts[s];
+    out.folded.V.middleRows(v, folded_parts[s].rows()) = folded_parts[s];
+    v += flat_parts[s].rows();
+    plate.F.middleRows(rows, face_parts[s].rows()) = face_parts[s];
+    rows += face_parts[s].rows();
+  }
+  out.folded.F = plate.F;
+  if (static_cast<Eigen::Index>(piece.size()) != rows) {
+    throw std::logic_error("origami_plate: folded_mesh's triangles are not its pieces'");
+  }
+
+  // The stack: PLA faces; each actuator's triangles take the actuator's own layers.
+  const int num_faces = static_cast<int>(rows);
+  plate.stack.materials = {options.pla, options.tpu};
+  const double face_lambda1 =
+      printed_lambda1(options.pla, stack.layer_height, options.print.face_speed);
+  for (int k = 0; k < num_layers; ++k) {
+    Layer layer = uniform_layer(num_faces, 0, options.pla, stack.layer_height);
+    layer.lambda1.setConstant(face_lambda1);
+    layer.theta.setConstant(k % 2 == 0 ? 0.0 : std::numbers::pi / 2);  // layer 1 along x
+    layers.push_back(layer);
+  }
+  Eigen::Index t = 0;
+  for (const OrigamiSheet& sheet : design.sheets) {
+    t += [&] {
+      Eigen::Index n = 0;
+      for (const Eigen::MatrixX2d& face : sheet.sheet.faces) n += face.rows() - 2;
+      return n;
+    }();
+    for (const Actuator& actuator : sheet.sheet.actuators) {
+      const LayerStack own = actuator_layer_stack(
+          options.pla, options.tpu, stack,
+          active_lambda1(options.pla, stack, actuator.hinge.pla_speed), actuator.hinge.pla_on_bed,
+          std::atan2(actuator.across.y(), actuator.across.x()), 1);
+      for (int k = 0; k < num_layers; ++k) {
+        const Layer& from = own.layers[k];
+        Layer& to = layers[k];
+        to.printed_thickness.segment(t, 2 * arc_steps).setConstant(from.printed_thickness(0));
+        to.material.segment(t, 2 * arc_steps).setConstant(from.material(0));
+        to.theta.segment(t, 2 * arc_steps).setConstant(from.theta(0));
+        to.lambda1.segment(t, 2 * arc_steps).setConstant(from.lambda1(0));
+        to.delta_lambda1.segment(t, 2 * arc_steps).setConstant(from.delta_lambda1(0));
+        to.lambda2.segment(t, 2 * arc_steps).setConstant(from.lambda2(0));
+        to.lambda3.segment(t, 2 * arc_steps).setConstant(from.lambda3(0));
+        to.cover.segment(t, 2 * arc_steps).setConstant(from.cover(0));
+      }
+      t += 2 * arc_steps;
+    }
+  }
+  plate.stack.layers = std::move(layers);
+  plate.design_fields.set_face("piece", Eigen::Map<const Eigen::VectorXd>(piece.data(), num_faces));
+  plate.design_fields.set_face("sheet",
+                               Eigen::Map<const Eigen::VectorXd>(sheet_of.data(), num_faces));
+  return out;
+}
+
+std::vector<std::string> origami_example_names() {
+  std::vector<std::string> names = polyhedron_example_names();
+  names.push_back("bunny");
+  return names;
+}
+
+Polyhedron origami_example(const std::string& name, int max_faces) {
+  static const std::map<std::string, double> sizes = {
+      {"tetrahedron", 70}, {"cube", 45},    {"octahedron", 64}, {"dodecahedron", 56},
+      {"icosahedron", 66}, {"pyramid", 70}, {"bunny", 250}};
+  const auto size = sizes.find(name);
+  if (size == sizes.end()) {
+    throw UserError(ErrorCategory::kOption,
+                    fmt::format("no built-in solid '{}': choose one of {}", name,
+                                fmt::join(origami_example_names(), ", ")));
+  }
+  const Polyhedron solid =
+      name == "bunny" ? low_poly_bunny_solid(max_faces) : polyhedron_example(name, 1.0);
+  return scaled_to_size(solid, size->second);
+}
+
+Polyhedron scaled_to_size(const Polyhedron& solid, double size) {
+  Polyhedron out = solid;
+  const Eigen::RowVector3d lo = solid.V.colwise().minCoeff(), hi = solid.V.colwise().maxCoeff();
+  const double longest = (hi - lo).maxCoeff();
+  if (!(size > 0) || !(longest > 0)) {
+    throw std::invalid_argument("scaled_to_size: a size and a solid of positive extent");
+  }
+  const Eigen::RowVector3d centre = 0.5 * (lo + hi);
+  out.V = ((solid.V.rowwise() - centre) * (size / longest)).rowwise() + centre;
+  return out;
+}
+
+OrigamiDesign design_origami(const Polyhedron& solid, const OrigamiOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  OrigamiDesign design;
+  design.curve = hinge_curve_of(options);
+  report_progress(options.progress,
+                  {"unfold", 0, 0, NAN, fmt::format("{} faces", solid.faces.size())});
+  // Case B hinges bend less, so they need wider actuators: the tree prefers to cut them, the more
+  // the weaker they are.
+  UnfoldOptions unfold_options = options.unfold;
+  const double mid = 0.5 * (design.curve.min_speed + design.curve.max_speed);
+  unfold_options.minority_weight = std::min(
+      1.0, hinge_curvature(design.curve, mid, false) / hinge_curvature(design.curve, mid, true));
+  design.unfolding = unfold(solid, unfold_options);
+  const Unfolding& unfolding = *design.unfolding;
+  design.times.unfold = seconds_since(start);
+  if (unfolding.nets.size() > 1) {
+    design.warnings.push_back(fmt::format(
+        "no single net of the {} faces lies flat without overlapping itself: printed as {} nets "
+        "to join after folding",
+        solid.faces.size(), unfolding.nets.size()));
+  }
+  std::vector<CreasePattern> patterns;
+  for (size_t n = 0; n < unfolding.nets.size(); ++n) {
+    patterns.push_back(crease_pattern_of_net(unfolding, static_cast<int>(n),
+                                             fmt::format("net {}", n + 1), options.flat_angle));
+  }
+  make_sheets(std::move(patterns), options, design);
+
+  // Notes §11: every fold angle is π − the dihedral; folded back, the nets give the solid, and
+  // each face of the curved model lies on its face's plane.
+  const double diagonal = (solid.V.colwise().maxCoeff() - solid.V.colwise().minCoeff()).norm();
+  for (int e = 0; e < static_cast<int>(unfolding.edges.size()); ++e) {
+    const PolyhedronEdge& edge = unfolding.edges[e];
+    if (edge.right < 0) continue;
+    const double cosine =
+        std::clamp(face_normal(solid, edge.left).dot(face_normal(solid, edge.right)), -1.0, 1.0);
+    const double dihedral = std::numbers::pi - std::acos(cosine);
+    design.fold_angle_error =
+        std::max(design.fold_angle_error,
+                 std::abs(std::abs(unfolding.fold_angle(e)) - (std::numbers::pi - dihedral)));
+  }
+  for (const OrigamiSheet& sheet : design.sheets) {
+    const CreasePattern& pattern = sheet.pattern;
+    const std::vector<Eigen::MatrixX3d> sharp = fold_sharp(pattern, 1.0);
+    Eigen::Index corners = 0;
+    for (const Eigen::MatrixX3d& face : sharp) corners += face.rows();
+    Eigen::MatrixXd folded(corners, 3), target(corners, 3);
+    Eigen::Index row = 0;
+    for (int f = 0; f < pattern.num_faces(); ++f) {
+      const std::vector<int>& face = solid.faces[pattern.solid_face[f]];
+      for (size_t k = 0; k < face.size(); ++k, ++row) {
+        // Turned over, the sheet runs each face's corners the other way round.
+        const size_t corner = sheet.turned_over ? face.size() - 1 - k : k;
+        folded.row(row) = sharp[f].row(static_cast<Eigen::Index>(corner));
+        target.row(row) = solid.V.row(face[k]);
+      }
+    }
+    const RigidFit fit = best_rigid_fit(folded, target);
+    const Eigen::MatrixXd aligned =
+        (folded * fit.rotation.transpose()).rowwise() + fit.translation.transpose();
+    design.sharp_error_pct = std::max(
+        design.sharp_error_pct, 100 * (aligned - target).rowwise().norm().maxCoeff() / diagonal);
+    for (int f = 0; f < pattern.num_faces(); ++f) {
+      const int s = pattern.solid_face[f];
+      const Eigen::Vector3d normal = face_normal(solid, s);
+      const Eigen::Vector3d on_plane = solid.V.row(solid.faces[s][0]).transpose();
+      const Eigen::MatrixX3d& curved = sheet.folded.faces[f];
+      for (Eigen::Index k = 0; k < curved.rows(); ++k) {
+        const Eigen::Vector3d p = fit.rotation * curved.row(k).transpose() + fit.translation;
+        design.curved_plane_error_pct = std::max(
+            design.curved_plane_error_pct, 100 * std::abs(normal.dot(p - on_plane)) / diagonal);
+      }
+    }
+  }
+  design.solid = solid;
+  design.times.total = seconds_since(start);
+  return design;
+}
+
+OrigamiDesign design_origami_pattern(const CreasePattern& pattern, const OrigamiOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  OrigamiDesign design;
+  design.curve = hinge_curve_of(options);
+  make_sheets({pattern}, options, design);
+  if (design.sheets[0].loop_closure > 1e-3) {
+    design.warnings.push_back(fmt::format(
+        "{}: folded rigidly along its tree, two sides of a crease off the tree end {:.2f} mm "
+        "apart: the drawn angles do not close around a vertex",
+        pattern.name, design.sheets[0].loop_closure));
+  }
+  design.times.total = seconds_since(start);
+  return design;
+}
+
+}  // namespace flatmorph

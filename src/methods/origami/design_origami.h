@@ -1,0 +1,113 @@
+// Thermorph's self-folding origami end to end (CHI 2018, Steps 1-4; notes §6-8): a solid of planar
+// faces unfolded into nets, or a drawn crease pattern, each fold given a curved PLA/TPU actuator
+// whose width and print speed bend it by the fold's angle (the hinge curve), the sheets laid on the
+// bed, folded back to check them, and printed in two materials. Millimetres, radians, mm/s.
+#pragma once
+
+#include <Eigen/Core>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "common/progress.h"
+#include "material/hinge_curve.h"
+#include "material/material.h"
+#include "mesh/mesh.h"
+#include "methods/origami/actuators.h"
+#include "methods/origami/crease_pattern.h"
+#include "methods/origami/fold_simulation.h"
+#include "methods/origami/origami_toolpath.h"
+#include "methods/origami/polyhedron.h"
+#include "methods/origami/unfold.h"
+#include "plate/plate_design.h"
+#include "toolpath/toolpath.h"
+
+namespace flatmorph {
+
+struct OrigamiOptions {
+  Material pla;  // the faces and the actuators' active layers (tool 0)
+  Material tpu;  // the actuators' constraint layer (tool 1)
+  // The hinge curve: pla.hinge_curve when calibrated, else the default from the laminate
+  // (plate/actuator_stack.h).
+  // Every actuator's active PLA is printed at this speed, and its width follows from the angle
+  // (W = |θ| / κ(v)); with actuator_width > 0, every actuator is that wide and its speed follows
+  // (κ(v) = |θ| / W, Fig. 11c).
+  double actuator_speed = 150;  // mm/s: 9000 mm/min, the paper's for polyhedra (Table 1 e, f)
+  double actuator_width = 0;    // mm; 0: from the speed
+  // Folds of less than this print no actuator (the faces stay joined flat), rad.
+  double flat_angle = 1.0 * 3.14159265358979323846 / 180;
+  UnfoldOptions unfold;
+  ActuateOptions actuate;
+  OrigamiPrintSettings print;
+  // Where the sheets may go (x, y: the printer's bed less a margin), mm, and their gap.
+  Eigen::Vector2d room{200, 200};
+  double sheet_gap = 5;
+  int fold_steps = 50;  // collision checks from flat to folded
+  ProgressCallback progress;
+};
+
+// One printed sheet: a net of the solid, or the drawn pattern.
+struct OrigamiSheet {
+  CreasePattern pattern;            // placed on the bed (plate coordinates), the side printed up
+  bool turned_over = false;         // printed with the solid's inward side up (mostly valleys)
+  std::vector<HingeDesign> hinges;  // one per hinge of the pattern
+  ActuatedSheet sheet;
+  FoldedSheet folded;                            // the curved model at full fold
+  std::optional<FoldCollision> collision;        // every hinge folding together
+  std::optional<FoldCollision> order_collision;  // hinge after hinge in the fold order
+  double corner_gap = 0;                         // mm, largest_corner_gap
+  double loop_closure = 0;                       // mm, loop_closure_error (0 for a net)
+};
+
+struct OrigamiDesign {
+  std::optional<Polyhedron> solid;  // the inverse flow's (none for a drawn pattern)
+  std::optional<Unfolding> unfolding;
+  HingeCurve curve;
+  std::vector<OrigamiSheet> sheets;
+  Toolpath toolpath;  // every sheet, plate coordinates
+  // The inverse flow's checks (notes §11), in % of the solid's diagonal: the nets folded sharply
+  // against the solid's corners after the best rigid motion, and the curved model's face corners
+  // off their faces' planes in that same frame.
+  double sharp_error_pct = 0;
+  double curved_plane_error_pct = 0;
+  double fold_angle_error = 0;  // rad: the largest |θ − (π − dihedral)| over the hinges
+  std::vector<std::string> warnings;
+  struct Times {
+    double unfold = 0, actuate = 0, fold = 0, toolpath = 0, total = 0;  // s
+  } times;
+};
+
+// The solid folded from nets (Steps 2-4). Throws unfold's, actuate's and the hinge curve's
+// UserErrors (a fold no speed in the curve's range reaches, a face too narrow for its trims) and
+// pack_in_rows' (sheets larger than options.room).
+OrigamiDesign design_origami(const Polyhedron& solid, const OrigamiOptions& options);
+
+// A drawn crease pattern (the forward flow, Fig. 12 "2D pattern"): the same actuators, layout,
+// folding and print. Throws as design_origami.
+OrigamiDesign design_origami_pattern(const CreasePattern& pattern, const OrigamiOptions& options);
+
+// The printed sheets as one plate (flat.ply and its stack), and the same triangles folded (the
+// curved model, folded.ply: vertex for vertex the plate's): each face and each actuator strip
+// (`arc_steps` strips across) triangulated apart; the faces PLA in every layer, their lines
+// turning 90° from layer to layer at the face speed, the actuators as actuator_layer_stack
+// prints them (the active PLA's λ1 from its speed, the TPU along the hinge). A per-face property
+// "piece" numbers the face (0 ...) or actuator (faces + a) of each sheet a triangle belongs to,
+// "sheet" the sheet.
+struct OrigamiPlate {
+  PlateDesign plate;
+  Mesh folded;
+};
+OrigamiPlate origami_plate(const OrigamiDesign& design, const OrigamiOptions& options,
+                           int arc_steps = 8);
+
+// The built-in solids of `flatmorph origami --example`: polyhedron_example_names() and "bunny"
+// (low_poly_bunny_solid with at most `max_faces` faces), each at a size (the longest side, mm)
+// where every face keeps some of itself after its trims with the default hinge curve and its net
+// fits a 250 mm bed. Throws UserError (kOption) listing them for another name.
+std::vector<std::string> origami_example_names();
+Polyhedron origami_example(const std::string& name, int max_faces);
+
+// The solid scaled about its centre so that its bounding box's longest side is `size` mm.
+Polyhedron scaled_to_size(const Polyhedron& solid, double size);
+
+}  // namespace flatmorph

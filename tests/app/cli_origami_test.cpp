@@ -1,0 +1,103 @@
+// flatmorph origami from the command line (issue 27): a built-in solid writes the whole run folder
+// whose G-code passes `flatmorph check` on a two-tool printer and, with pauses, on a one-tool one;
+// the crease pattern it writes reads back as a drawn pattern; a mesh that cannot fold is refused
+// with one line naming its triangles, and nothing is written.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "test_support.h"
+
+namespace flatmorph {
+namespace {
+
+using testing::run_cli;
+
+TEST(CliOrigami, TheCubeWritesTheRunFolderAndAGcodeThatPassesTheCheck) {
+  const std::filesystem::path scratch = testing::scratch_dir();
+  const std::filesystem::path dir = scratch / "cube";
+  const auto r = run_cli({"origami", "--example", "cube", "--no-slicer", "-o", dir.string()});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  for (const char* name : {"net.svg", "crease_pattern.svg", "pattern.fold", "simulated.ply",
+                           "flat.ply", "flat.stack.json", "solid.obj", "plate.gcode",
+                           "toolpath.json", "design.json", "report.html"}) {
+    EXPECT_TRUE(std::filesystem::exists(dir / name)) << name;
+  }
+  std::ifstream in(dir / "design.json");
+  const nlohmann::json j = nlohmann::json::parse(in);
+  EXPECT_EQ(j.at("method"), "origami");
+  EXPECT_EQ(j.at("hinge_curve"), "uncalibrated default");
+  const nlohmann::json& m = j.at("metrics");
+  EXPECT_EQ(m.at("hinges").get<int>(), 5);
+  EXPECT_LT(m.at("sharp_fold_error_pct").get<double>(), 0.1);
+  EXPECT_LT(m.at("curved_plane_error_pct").get<double>(), 1e-4);
+  EXPECT_FALSE(m.at("collision").get<bool>());
+  EXPECT_EQ(m.at("tool_changes").get<int>(), 1);  // case A: TPU only in the last layer
+  // The paper saves 60-87 % of the time against printing the solid.
+  EXPECT_GT(m.at("time_saving_pct").get<double>(), 30);
+  const nlohmann::json& hinge = j.at("sheets").at(0).at("hinges").at(0);
+  EXPECT_NEAR(hinge.at("fold_angle_deg").get<double>(), -90, 1e-9);
+  EXPECT_EQ(hinge.at("case"), "A");
+  EXPECT_NEAR(hinge.at("width_mm").get<double>(),
+              hinge.at("radius_mm").get<double>() * 3.14159265358979 / 2, 1e-9);
+  const auto check = run_cli({"check", (dir / "plate.gcode").string(), "--printer", "prusa-xl-2t"});
+  EXPECT_EQ(check.exit_code, 0) << check.out << check.err;
+
+  // The drawn pattern it wrote folds the same way: the forward flow.
+  const std::filesystem::path drawn = scratch / "cube-drawn";
+  const auto again = run_cli(
+      {"origami", (dir / "crease_pattern.svg").string(), "--no-slicer", "-o", drawn.string()});
+  ASSERT_EQ(again.exit_code, 0) << again.err;
+  std::ifstream in2(drawn / "design.json");
+  const nlohmann::json k = nlohmann::json::parse(in2);
+  EXPECT_EQ(k.at("metrics").at("hinges").get<int>(), 5);
+  EXPECT_EQ(k.at("sheets").at(0).at("faces").get<int>(), 6);
+}
+
+TEST(CliOrigami, AOneToolPrinterPausesForTheTpuAndThePrintPassesTheCheck) {
+  const std::filesystem::path dir = testing::scratch_dir() / "octahedron-mk4";
+  const auto r = run_cli({"origami", "--example", "octahedron", "--printer", "prusa-mk4",
+                          "--no-slicer", "-o", dir.string()});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string gcode = testing::read_file(dir / "plate.gcode");
+  EXPECT_NE(gcode.find("M600"), std::string::npos);
+  const auto check = run_cli({"check", (dir / "plate.gcode").string(), "--printer", "prusa-mk4",
+                              "--material", "pla-generic,tpu-generic"});
+  EXPECT_EQ(check.exit_code, 0) << check.out << check.err;
+}
+
+TEST(CliOrigami, RefusesMeshesThatCannotFoldAndBadRequestsBeforeAnyWork) {
+  const std::filesystem::path scratch = testing::scratch_dir();
+  const std::filesystem::path dir = scratch / "origami-out";
+  // Three triangles on one edge: no sheet folds into that.
+  const std::filesystem::path fin = scratch / "fin.obj";
+  {
+    std::ofstream out(fin);
+    out << "v 0 0 0\nv 10 0 0\nv 0 10 0\nv 0 -10 0\nv 0 0 10\n"
+           "f 1 2 3\nf 2 1 4\nf 1 2 5\n";
+  }
+  struct Case {
+    std::vector<std::string> args;
+    std::string says;
+  };
+  for (const Case& c : std::vector<Case>{
+           {{"origami", "-o", dir.string()}, "needs a solid"},
+           {{"origami", "--example", "teapot", "-o", dir.string()}, "tetrahedron"},
+           {{"origami", "--example", "cube", "--faces", "2", "-o", dir.string()}, "--faces 2"},
+           {{"origami", "--example", "cube", "--actuator-speed", "0", "-o", dir.string()},
+            "--actuator-speed"},
+           {{"origami", fin.string(), "-o", dir.string()}, "triangles 0, 1 and 2"},
+           {{"origami", "--example", "cube", "--size", "20", "-o", dir.string()}, "face"},
+       }) {
+    const auto r = run_cli(c.args);
+    EXPECT_EQ(r.exit_code, 2) << c.says << ": " << r.err;
+    EXPECT_NE(r.err.find(c.says), std::string::npos) << r.err;
+    EXPECT_FALSE(std::filesystem::exists(dir / "design.json")) << c.says;
+  }
+}
+
+}  // namespace
+}  // namespace flatmorph

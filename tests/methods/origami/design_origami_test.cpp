@@ -1,0 +1,82 @@
+// The origami design end to end (issue 27's acceptance): every built-in solid unfolds into nets
+// that, with their actuators, fold back onto it (sharp: its corners; curved: its faces' planes),
+// every fold angle π − the dihedral, without collisions, and the sheets fit the bed.
+#include "methods/origami/design_origami.h"
+
+#include <gtest/gtest.h>
+
+#include <numbers>
+
+#include "common/error.h"
+#include "material/material.h"
+#include "methods/origami/sheet_layout.h"
+
+namespace flatmorph {
+namespace {
+
+OrigamiOptions default_options() {
+  OrigamiOptions options;
+  options.pla = load_material("pla-generic");
+  options.tpu = load_material("tpu-generic");
+  options.room = {300, 300};
+  return options;
+}
+
+struct Example {
+  const char* name;
+  double edge;  // mm: large enough that every face keeps some of itself after its trims
+};
+class DesignOrigamiSolid : public ::testing::TestWithParam<Example> {};
+
+TEST_P(DesignOrigamiSolid, FoldsBackOntoTheSolidWithoutCollisions) {
+  const Polyhedron solid = polyhedron_example(GetParam().name, GetParam().edge);
+  const OrigamiDesign design = design_origami(solid, default_options());
+  EXPECT_LT(design.fold_angle_error, 0.1 * std::numbers::pi / 180);
+  EXPECT_LT(design.sharp_error_pct, 0.1);
+  EXPECT_LT(design.curved_plane_error_pct, 1e-4);
+  ASSERT_EQ(design.sheets.size(), 1u);
+  const OrigamiSheet& sheet = design.sheets[0];
+  EXPECT_FALSE(sheet.turned_over);  // a convex solid: every fold a mountain
+  EXPECT_EQ(sheet.hinges.size(), solid.faces.size() - 1);
+  for (const HingeDesign& hinge : sheet.hinges) EXPECT_TRUE(hinge.pla_on_bed);
+  EXPECT_FALSE(sheet.collision) << piece_name(sheet.sheet, sheet.collision->piece_a) << " / "
+                                << piece_name(sheet.sheet, sheet.collision->piece_b);
+  // On the bed: inside the room, from the origin.
+  const Eigen::MatrixX2d points = sheet_points(sheet.sheet);
+  EXPECT_GE(points.minCoeff(), -1e-9);
+  EXPECT_LE(points.col(0).maxCoeff(), 300);
+  EXPECT_LE(points.col(1).maxCoeff(), 300);
+  EXPECT_FALSE(design.toolpath.layers.empty());
+}
+
+INSTANTIATE_TEST_SUITE_P(Examples, DesignOrigamiSolid,
+                         ::testing::Values(Example{"tetrahedron", 70}, Example{"cube", 45},
+                                           Example{"octahedron", 45}, Example{"dodecahedron", 25},
+                                           Example{"icosahedron", 35}, Example{"pyramid", 70}),
+                         [](const auto& info) { return std::string(info.param.name); });
+
+TEST(DesignOrigami, AMostlyConcaveSheetIsPrintedTurnedOverSoThatItsFoldsAreMountains) {
+  Polyhedron cube = polyhedron_example("cube", 45);
+  for (std::vector<int>& face : cube.faces) std::reverse(face.begin(), face.end());  // inside out
+  const OrigamiDesign design = design_origami(cube, default_options());
+  ASSERT_EQ(design.sheets.size(), 1u);
+  EXPECT_TRUE(design.sheets[0].turned_over);
+  for (const HingeDesign& hinge : design.sheets[0].hinges) EXPECT_TRUE(hinge.pla_on_bed);
+  EXPECT_LT(design.sharp_error_pct, 0.1);
+  EXPECT_LT(design.curved_plane_error_pct, 1e-4);
+}
+
+TEST(DesignOrigami, ASheetLargerThanTheBedIsRefusedWithTheRoomItNeeds) {
+  OrigamiOptions options = default_options();
+  options.room = {100, 100};
+  try {
+    design_origami(polyhedron_example("cube", 45), options);
+    FAIL() << "a 45 mm cube's net on a 100 mm bed";
+  } catch (const UserError& e) {
+    EXPECT_EQ(e.category(), ErrorCategory::kInfeasible);
+    EXPECT_NE(std::string(e.what()).find("net 1"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace flatmorph
