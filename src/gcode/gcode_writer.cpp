@@ -15,6 +15,7 @@
 #include "gcode/estimate.h"
 #include "gcode/gcode_check.h"
 #include "gcode/tool_change.h"
+#include "mesh/convex_hull.h"
 
 namespace flatmorph {
 namespace {
@@ -108,30 +109,6 @@ void validate_toolpath(const Toolpath& toolpath, const PrinterProfile& printer,
       }
     }
   }
-}
-
-// Convex hull (counter-clockwise, no repeated point) of 2D points: Andrew's monotone chain.
-std::vector<Eigen::Vector2d> convex_hull(std::vector<Eigen::Vector2d> p) {
-  std::sort(p.begin(), p.end(), [](const auto& a, const auto& b) {
-    return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
-  });
-  p.erase(std::unique(p.begin(), p.end()), p.end());
-  if (p.size() < 3) return p;
-  auto cross = [](const Eigen::Vector2d& o, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-    return (a - o).x() * (b - o).y() - (a - o).y() * (b - o).x();
-  };
-  std::vector<Eigen::Vector2d> hull(2 * p.size());
-  size_t k = 0;
-  for (size_t i = 0; i < p.size(); ++i) {
-    while (k >= 2 && cross(hull[k - 2], hull[k - 1], p[i]) <= 0) --k;
-    hull[k++] = p[i];
-  }
-  for (size_t i = p.size() - 1, t = k + 1; i-- > 0;) {
-    while (k >= t && cross(hull[k - 2], hull[k - 1], p[i]) <= 0) --k;
-    hull[k++] = p[i];
-  }
-  hull.resize(k - 1);
-  return hull;
 }
 
 // The boundary of the hull grown by `r`: straight edges moved out by r joined by arcs of radius r
@@ -919,14 +896,15 @@ std::vector<PathPolyline> skirt_loops(const Toolpath& toolpath, int loops, doubl
   std::vector<PathPolyline> result;
   if (loops <= 0 || toolpath.layers.empty()) return result;
   const ToolpathLayer& first = toolpath.layers.front();
-  std::vector<Eigen::Vector2d> points;
+  Eigen::MatrixX2d points(0, 2);
   for (const PathPolyline& path : first.paths) {
-    for (Eigen::Index i = 0; i < path.points.rows(); ++i) {
-      points.emplace_back(path.points(i, 0), path.points(i, 1));
-    }
+    points.conservativeResize(points.rows() + path.points.rows(), 2);
+    points.bottomRows(path.points.rows()) = path.points.leftCols(2);
   }
-  if (points.empty()) return result;
-  const std::vector<Eigen::Vector2d> hull = convex_hull(points);
+  if (points.rows() == 0) return result;
+  const Eigen::MatrixX2d corners = convex_hull(points);
+  std::vector<Eigen::Vector2d> hull(corners.rows());
+  for (Eigen::Index i = 0; i < corners.rows(); ++i) hull[i] = corners.row(i).transpose();
   for (int k = loops - 1; k >= 0; --k) {
     // The bead's centre line lies half a width outside the gap.
     const std::vector<Eigen::Vector2d> ring = offset_hull(hull, distance + (k + 0.5) * width);
