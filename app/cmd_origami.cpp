@@ -308,10 +308,11 @@ int run_origami(const OrigamiCliOptions& o, const GlobalOptions& global) {
         m["time_saving_pct"].get<double>(), m["filament_saving_pct"].get<double>());
   }
   fmt::print("design time {:.2f} s\n", design.times.total);
+  const std::string n = design.sheets.size() == 1 ? "" : "_N";
   fmt::print(
-      "wrote {}: net.svg, crease_pattern.svg, pattern.fold, simulated.ply (folded), flat.ply"
-      "{}, design.json, report.html\n",
-      o.output, run.print ? ", plate.gcode, toolpath.json, layers/" : "");
+      "wrote {}: net{}.svg, crease_pattern{}.svg, pattern{}.fold, simulated.ply (folded), "
+      "flat.ply{}, design.json, report.html\n",
+      o.output, n, n, n, run.print ? ", plate.gcode, toolpath.json, layers/" : "");
   return 0;
 }
 

@@ -90,7 +90,8 @@ TEST(CliOrigami, RefusesMeshesThatCannotFoldAndBadRequestsBeforeAnyWork) {
            {{"origami", "--example", "cube", "--actuator-speed", "0", "-o", dir.string()},
             "--actuator-speed"},
            {{"origami", fin.string(), "-o", dir.string()}, "triangles 0, 1 and 2"},
-           {{"origami", "--example", "cube", "--size", "20", "-o", dir.string()}, "face"},
+           {{"origami", "--example", "cube", "--size", "10", "-o", dir.string()},
+            "scale the pattern"},
        }) {
     const auto r = run_cli(c.args);
     EXPECT_EQ(r.exit_code, 2) << c.says << ": " << r.err;

@@ -203,31 +203,23 @@ FaceFailure face_failure(int f, const Eigen::MatrixX2d& face, const std::vector<
   return out;
 }
 
-}  // namespace
+// The hinges' designs by crease (−1: none), checked against the pattern, and every face trimmed
+// by the corner rule, with the faces that do not survive their trims.
+struct Trims {
+  std::vector<int> design_of;
+  std::vector<std::vector<int>> side_crease;
+  std::vector<Trim> trims;
+  std::vector<FaceFailure> failures;
+};
 
-HingeDesign hinge_design(int crease, double fold_angle, double radius, bool pla_on_bed,
-                         double pla_speed) {
-  if (!(radius > 0) || !std::isfinite(radius)) {
-    throw std::invalid_argument("hinge_design: the arc radius must be positive and finite");
-  }
-  HingeDesign out;
-  out.crease = crease;
-  out.fold_angle = fold_angle;
-  out.radius = radius;
-  out.width = radius * std::abs(fold_angle);
-  out.cut = 2 * radius * std::tan(std::abs(fold_angle) / 2);
-  out.shift = out.cut - out.width;
-  out.pla_on_bed = pla_on_bed;
-  out.pla_speed = pla_speed;
-  return out;
-}
-
-ActuatedSheet actuate(const CreasePattern& pattern, const std::vector<HingeDesign>& hinges,
-                      const ActuateOptions& options) {
+Trims trim_faces(const CreasePattern& pattern, const std::vector<HingeDesign>& hinges,
+                 const ActuateOptions& options) {
   check_fold_tree(pattern);
   const int num_faces = pattern.num_faces();
   const int num_creases = static_cast<int>(pattern.creases.size());
-  std::vector<int> design_of(num_creases, -1);
+  Trims out;
+  std::vector<int>& design_of = out.design_of;
+  design_of.assign(num_creases, -1);
   for (size_t h = 0; h < hinges.size(); ++h) {
     const int c = hinges[h].crease;
     if (c < 0 || c >= num_creases || !pattern.is_hinge(c) || design_of[c] >= 0 ||
@@ -254,15 +246,17 @@ ActuatedSheet actuate(const CreasePattern& pattern, const std::vector<HingeDesig
               "{}: the hinge between faces {} and {} folds {:.1f}°; an actuator folds at most "
               "170° (its faces would give up 2 r tan(θ/2) without bound): blunt that edge "
               "of the model or cut it",
-              pattern.name, pattern.creases[c].left, pattern.creases[c].right,
+              pattern.name, pattern.creases[c].left + 1, pattern.creases[c].right + 1,
               angle * 180 / std::numbers::pi));
     }
   }
 
   // Trim every face; refuse the ones that do not survive, with what would save them.
-  const std::vector<std::vector<int>> side_crease = side_creases(pattern);
-  std::vector<Trim> trims(num_faces);
-  std::vector<FaceFailure> failures;
+  out.side_crease = side_creases(pattern);
+  const std::vector<std::vector<int>>& side_crease = out.side_crease;
+  std::vector<Trim>& trims = out.trims;
+  trims.resize(num_faces);
+  std::vector<FaceFailure>& failures = out.failures;
   for (int f = 0; f < num_faces; ++f) {
     const Eigen::MatrixX2d face = face_corners(pattern, f);
     std::vector<double> inset(face.rows(), 0.0);
@@ -275,13 +269,43 @@ ActuatedSheet actuate(const CreasePattern& pattern, const std::vector<HingeDesig
       failures.push_back(face_failure(f, face, inset, *problem, options.min_face_width));
     }
   }
+  return out;
+}
+
+}  // namespace
+
+HingeDesign hinge_design(int crease, double fold_angle, double radius, bool pla_on_bed,
+                         double pla_speed) {
+  if (!(radius > 0) || !std::isfinite(radius)) {
+    throw std::invalid_argument("hinge_design: the arc radius must be positive and finite");
+  }
+  HingeDesign out;
+  out.crease = crease;
+  out.fold_angle = fold_angle;
+  out.radius = radius;
+  out.width = radius * std::abs(fold_angle);
+  out.cut = 2 * radius * std::tan(std::abs(fold_angle) / 2);
+  out.shift = out.cut - out.width;
+  out.pla_on_bed = pla_on_bed;
+  out.pla_speed = pla_speed;
+  return out;
+}
+
+ActuatedSheet actuate(const CreasePattern& pattern, const std::vector<HingeDesign>& hinges,
+                      const ActuateOptions& options) {
+  const int num_faces = pattern.num_faces();
+  Trims trimmed = trim_faces(pattern, hinges, options);
+  const std::vector<int>& design_of = trimmed.design_of;
+  const std::vector<std::vector<int>>& side_crease = trimmed.side_crease;
+  const std::vector<Trim>& trims = trimmed.trims;
+  const std::vector<FaceFailure>& failures = trimmed.failures;
   if (!failures.empty()) {
     // The face that needs the most, and what saves them all.
     const FaceFailure* worst = &failures[0];
     std::optional<double> radius = failures[0].radius;
     std::vector<int> names;
     for (const FaceFailure& failure : failures) {
-      names.push_back(failure.face);
+      names.push_back(failure.face + 1);  // numbered from 1, as net.svg shows them
       // Equal needs within rounding name the first such face.
       const double need = failure.scale.value_or(std::numeric_limits<double>::infinity());
       if (need > worst->scale.value_or(std::numeric_limits<double>::infinity()) * (1 + 1e-9)) {
@@ -308,7 +332,7 @@ ActuatedSheet actuate(const CreasePattern& pattern, const std::vector<HingeDesig
     throw UserError(
         ErrorCategory::kInfeasible,
         fmt::format("{}: face {} is {} once its hinges take their actuators' L/2 from it{}: {}",
-                    pattern.name, worst->face, worst->problem,
+                    pattern.name, worst->face + 1, worst->problem,
                     names.size() > 1 ? fmt::format(" (faces {} fail)", fmt::join(names, ", ")) : "",
                     fix));
   }
@@ -378,6 +402,16 @@ ActuatedSheet actuate(const CreasePattern& pattern, const std::vector<HingeDesig
     out.actuators.push_back(actuator);
   }
   return out;
+}
+
+std::vector<int> faces_too_narrow(const CreasePattern& pattern,
+                                  const std::vector<HingeDesign>& hinges,
+                                  const ActuateOptions& options) {
+  std::vector<int> faces;
+  for (const FaceFailure& failure : trim_faces(pattern, hinges, options).failures) {
+    faces.push_back(failure.face);
+  }
+  return faces;
 }
 
 std::vector<std::pair<int, int>> sheet_overlaps(const ActuatedSheet& sheet) {

@@ -37,6 +37,12 @@ struct ActuateOptions {
 ActuatedSheet actuate(const CreasePattern& pattern, const std::vector<HingeDesign>& hinges,
                       const ActuateOptions& options = {});
 
+// The faces (0 ...) that actuate would refuse: left empty, inside out, self-intersecting or
+// narrower than options.min_face_width by their hinges' trims; checks the designs as actuate.
+std::vector<int> faces_too_narrow(const CreasePattern& pattern,
+                                  const std::vector<HingeDesign>& hinges,
+                                  const ActuateOptions& options = {});
+
 // The pairs of pieces of the flat printed sheet that overlap (polygons_overlap), pieces numbered
 // faces first, then actuators (F + a), each pair (smaller, larger), an actuator and its own two
 // faces excepted; empty for a sheet that prints as drawn.

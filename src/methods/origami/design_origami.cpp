@@ -73,16 +73,61 @@ std::vector<HingeDesign> design_hinges(const CreasePattern& pattern, const Hinge
 }
 
 // Actuates, lays on the bed, folds and checks each pattern; the toolpath of them all.
-void make_sheets(std::vector<CreasePattern> patterns, const OrigamiOptions& options,
+// The pattern the side up that makes most folds mountains, with its hinges designed.
+OrigamiSheet prepared_sheet(CreasePattern pattern, const HingeCurve& curve,
+                            const OrigamiOptions& options) {
+  OrigamiSheet sheet;
+  sheet.turned_over = mostly_valleys(pattern);
+  sheet.pattern = sheet.turned_over ? turned_over(pattern) : std::move(pattern);
+  sheet.hinges = design_hinges(sheet.pattern, curve, options);
+  return sheet;
+}
+
+// The solid's edges (polyhedron_edges) of the hinges that keep this net from printing: per face
+// its trims eat, the hinge of that face with the largest cut; per pair of pieces that overlap
+// once the actuators are in, the hinge to the parent of each. Empty when the net prints.
+std::vector<int> unprintable_hinges(const OrigamiSheet& sheet, const Unfolding& unfolding,
+                                    const OrigamiOptions& options) {
+  const CreasePattern& pattern = sheet.pattern;
+  // A hinge is the parent crease of its child face, whose solid face's parent edge it is.
+  const auto solid_edge_to_parent = [&](int f) {
+    return unfolding.parent_edge(pattern.solid_face[f]);
+  };
+  std::vector<int> edges;
+  const std::vector<int> narrow = faces_too_narrow(pattern, sheet.hinges, options.actuate);
+  for (int f : narrow) {
+    int child = -1;  // the face below the hinge with the largest cut at f
+    double largest = 0;
+    for (const HingeDesign& hinge : sheet.hinges) {
+      const Crease& crease = pattern.creases[hinge.crease];
+      if (crease.left != f && crease.right != f) continue;
+      const int below =
+          pattern.parent_crease[crease.left] == hinge.crease ? crease.left : crease.right;
+      if (hinge.cut > largest) {
+        largest = hinge.cut;
+        child = below;
+      }
+    }
+    if (child >= 0) edges.push_back(solid_edge_to_parent(child));
+  }
+  if (!edges.empty()) return edges;
+  const ActuatedSheet actuated = actuate(pattern, sheet.hinges, options.actuate);
+  const int num_faces = pattern.num_faces();
+  for (const auto& [a, b] : sheet_overlaps(actuated)) {
+    for (int piece : {a, b}) {
+      const int f = piece < num_faces ? piece : actuated.actuators[piece - num_faces].child_face;
+      if (f != pattern.root) edges.push_back(solid_edge_to_parent(f));
+    }
+  }
+  return edges;
+}
+
+void make_sheets(std::vector<OrigamiSheet> prepared, const OrigamiOptions& options,
                  OrigamiDesign& design) {
   const auto start = std::chrono::steady_clock::now();
   std::vector<Eigen::AlignedBox2d> boxes;
   std::vector<std::string> names;
-  for (CreasePattern& pattern : patterns) {
-    OrigamiSheet sheet;
-    sheet.turned_over = mostly_valleys(pattern);
-    sheet.pattern = sheet.turned_over ? turned_over(pattern) : std::move(pattern);
-    sheet.hinges = design_hinges(sheet.pattern, design.curve, options);
+  for (OrigamiSheet& sheet : prepared) {
     sheet.sheet = actuate(sheet.pattern, sheet.hinges, options.actuate);
     sheet.sheet.name = sheet.pattern.name;
     const std::vector<std::pair<int, int>> overlaps = sheet_overlaps(sheet.sheet);
@@ -146,6 +191,18 @@ void make_sheets(std::vector<CreasePattern> patterns, const OrigamiOptions& opti
       std::vector<PathPolyline>& paths = design.toolpath.layers[k].paths;
       paths.insert(paths.end(), part.layers[k].paths.begin(), part.layers[k].paths.end());
     }
+  }
+  // Every sheet's layer prints one material, then the other (notes §8): each layer first takes
+  // the tool the layer below ended with, so that the sheets together change no more often than
+  // one does.
+  int last_tool = -1;
+  for (ToolpathLayer& layer : design.toolpath.layers) {
+    if (layer.paths.empty()) continue;
+    const int first = last_tool >= 0 ? last_tool : layer.paths.front().segments.front().tool;
+    std::stable_partition(layer.paths.begin(), layer.paths.end(), [&](const PathPolyline& path) {
+      return path.segments.front().tool == first;
+    });
+    last_tool = layer.paths.back().segments.front().tool;
   }
   design.times.toolpath = seconds_since(toolpath_start);
 }
@@ -253,7 +310,7 @@ std::vector<std::string> origami_example_names() {
 Polyhedron origami_example(const std::string& name, int max_faces) {
   static const std::map<std::string, double> sizes = {
       {"tetrahedron", 70}, {"cube", 45},    {"octahedron", 64}, {"dodecahedron", 56},
-      {"icosahedron", 66}, {"pyramid", 70}, {"bunny", 250}};
+      {"icosahedron", 66}, {"pyramid", 70}, {"bunny", 160}};
   const auto size = sizes.find(name);
   if (size == sizes.end()) {
     throw UserError(ErrorCategory::kOption,
@@ -289,21 +346,56 @@ OrigamiDesign design_origami(const Polyhedron& solid, const OrigamiOptions& opti
   const double mid = 0.5 * (design.curve.min_speed + design.curve.max_speed);
   unfold_options.minority_weight = std::min(
       1.0, hinge_curvature(design.curve, mid, false) / hinge_curvature(design.curve, mid, true));
-  design.unfolding = unfold(solid, unfold_options);
+  unfold_options.edge_weight.assign(polyhedron_edges(solid).size(), 1.0);
+  // A tree whose trims eat a face, or whose shifted faces overlap, is unfolded again with those
+  // hinges turned down, so that the next tree cuts them (bounded: the last tree's problem is
+  // then refused by actuate with what would fix it).
+  std::vector<OrigamiSheet> prepared, first_tree;
+  std::optional<Unfolding> first_unfolding;
+  for (int round = 0;; ++round) {
+    design.unfolding = unfold(solid, unfold_options);
+    prepared.clear();
+    std::vector<int> unprintable;
+    for (size_t n = 0; n < design.unfolding->nets.size(); ++n) {
+      prepared.push_back(
+          prepared_sheet(crease_pattern_of_net(*design.unfolding, static_cast<int>(n),
+                                               fmt::format("net {}", n + 1), options.flat_angle),
+                         design.curve, options));
+      if (round < options.retrees) {
+        for (int e : unprintable_hinges(prepared.back(), *design.unfolding, options)) {
+          unprintable.push_back(e);
+        }
+      }
+    }
+    if (round == 0) {
+      first_tree = prepared;
+      first_unfolding = design.unfolding;
+    }
+    if (unprintable.empty()) break;
+    // Turned down once, the next tree may route around it; at fault again, it is cut for good
+    // (the solid may then print as several nets).
+    for (int e : unprintable) {
+      double& weight = unfold_options.edge_weight[e];
+      weight = weight < 1 ? 0 : 1e-3;
+    }
+  }
+  // Cut apart into loose faces, the solid would no longer fold itself: below that share of its
+  // hinges, the first tree is actuated and refused with the scale that saves it.
+  size_t hinges = 0;
+  for (const OrigamiSheet& sheet : prepared) hinges += sheet.hinges.size();
+  if (hinges < options.min_hinge_share * (solid.faces.size() - 1)) {
+    prepared = std::move(first_tree);
+    design.unfolding = std::move(first_unfolding);
+  }
   const Unfolding& unfolding = *design.unfolding;
   design.times.unfold = seconds_since(start);
   if (unfolding.nets.size() > 1) {
     design.warnings.push_back(fmt::format(
-        "no single net of the {} faces lies flat without overlapping itself: printed as {} nets "
-        "to join after folding",
+        "no single net of the {} faces lies flat and prints without overlapping itself: printed "
+        "as {} nets to join after folding",
         solid.faces.size(), unfolding.nets.size()));
   }
-  std::vector<CreasePattern> patterns;
-  for (size_t n = 0; n < unfolding.nets.size(); ++n) {
-    patterns.push_back(crease_pattern_of_net(unfolding, static_cast<int>(n),
-                                             fmt::format("net {}", n + 1), options.flat_angle));
-  }
-  make_sheets(std::move(patterns), options, design);
+  make_sheets(std::move(prepared), options, design);
 
   // Notes §11: every fold angle is π − the dihedral; folded back, the nets give the solid, and
   // each face of the curved model lies on its face's plane.
@@ -360,7 +452,9 @@ OrigamiDesign design_origami_pattern(const CreasePattern& pattern, const Origami
   const auto start = std::chrono::steady_clock::now();
   OrigamiDesign design;
   design.curve = hinge_curve_of(options);
-  make_sheets({pattern}, options, design);
+  std::vector<OrigamiSheet> prepared;
+  prepared.push_back(prepared_sheet(pattern, design.curve, options));
+  make_sheets(std::move(prepared), options, design);
   if (design.sheets[0].loop_closure > 1e-3) {
     design.warnings.push_back(fmt::format(
         "{}: folded rigidly along its tree, two sides of a crease off the tree end {:.2f} mm "

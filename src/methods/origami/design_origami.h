@@ -37,6 +37,12 @@ struct OrigamiOptions {
   // Folds of less than this print no actuator (the faces stay joined flat), rad.
   double flat_angle = 1.0 * 3.14159265358979323846 / 180;
   UnfoldOptions unfold;
+  // How many times a solid is unfolded again when its net cannot print (a face its trims eat,
+  // pieces that overlap once shifted), each time cutting the hinges at fault.
+  int retrees = 40;
+  // ... as long as the nets keep this share of the F − 1 hinges a single net has; else the first
+  // tree's problem is refused.
+  double min_hinge_share = 0.75;
   ActuateOptions actuate;
   OrigamiPrintSettings print;
   // Where the sheets may go (x, y: the printer's bed less a margin), mm, and their gap.
@@ -102,8 +108,9 @@ OrigamiPlate origami_plate(const OrigamiDesign& design, const OrigamiOptions& op
 
 // The built-in solids of `flatmorph origami --example`: polyhedron_example_names() and "bunny"
 // (low_poly_bunny_solid with at most `max_faces` faces), each at a size (the longest side, mm)
-// where every face keeps some of itself after its trims with the default hinge curve and its net
-// fits a 250 mm bed. Throws UserError (kOption) listing them for another name.
+// where every face keeps some of itself after its trims with the default hinge curve, the Platonic
+// solids' nets fit a 220 mm bed and the bunny's (160 mm tall, six nets) the default printer's
+// 360 mm one. Throws UserError (kOption) listing them for another name.
 std::vector<std::string> origami_example_names();
 Polyhedron origami_example(const std::string& name, int max_faces);
 

@@ -505,10 +505,11 @@ std::optional<FoldCollision> first_collision(const CreasePattern& pattern,
 
 std::string piece_name(const ActuatedSheet& sheet, int piece) {
   const int num_faces = static_cast<int>(sheet.faces.size());
-  if (piece < num_faces) return fmt::format("face {}", piece);
+  // Numbered from 1, as net.svg and design.json show them.
+  if (piece < num_faces) return fmt::format("face {}", piece + 1);
   const Actuator& actuator = sheet.actuators.at(piece - num_faces);
-  return fmt::format("actuator {} (faces {}–{})", piece - num_faces, actuator.parent_face,
-                     actuator.child_face);
+  return fmt::format("actuator {} (faces {}–{})", piece - num_faces + 1, actuator.parent_face + 1,
+                     actuator.child_face + 1);
 }
 
 }  // namespace flatmorph

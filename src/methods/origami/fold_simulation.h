@@ -77,7 +77,8 @@ std::optional<FoldCollision> first_collision(const CreasePattern& pattern,
                                              const ActuatedSheet& sheet, int steps = 50,
                                              bool in_fold_order = false);
 
-// "face 3" or "actuator 2 (faces 0–3)": a piece as messages name it.
+// "face 3" or "actuator 2 (faces 1–3)": a piece as messages name it, numbered from 1 as net.svg
+// and design.json number faces.
 std::string piece_name(const ActuatedSheet& sheet, int piece);
 
 }  // namespace flatmorph

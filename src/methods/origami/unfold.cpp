@@ -70,7 +70,7 @@ std::vector<int> spanning_hinges(const std::vector<PolyhedronEdge>& edges, int n
   };
   std::vector<int> hinges;
   for (int e : order) {
-    if (edges[e].right < 0) continue;
+    if (edges[e].right < 0 || !(weight[e] > 0)) continue;  // a border, or an edge to cut
     const int a = find(edges[e].left), b = find(edges[e].right);
     if (a == b) continue;
     root[a] = b;
@@ -135,6 +135,7 @@ Unfolding unfold(const Polyhedron& solid, const UnfoldOptions& options) {
     hinge_weight[e] = (solid.V.row(out.edges[e].v0) - solid.V.row(out.edges[e].v1)).norm();
     const bool minority = valleys > mountains ? out.fold_angle(e) < 0 : out.fold_angle(e) > 0;
     if (minority) hinge_weight[e] *= options.minority_weight;
+    if (!options.edge_weight.empty()) hinge_weight[e] *= options.edge_weight.at(e);
   }
   std::vector<std::vector<int>> face_edges(num_faces);
   for (int e = 0; e < num_edges; ++e) {

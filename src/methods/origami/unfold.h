@@ -21,6 +21,10 @@ struct UnfoldOptions {
   // convex solid), as a share of its length: such hinges print the weaker case B actuator, which
   // is wider, so a tree that cuts them instead folds on narrower actuators. 1: length alone.
   double minority_weight = 1;
+  // Per edge of polyhedron_edges, a factor on its weight (empty: 1 for all): a design that finds a
+  // hinge it cannot print (its trims eat a face) turns it down so that the next tree cuts it; an
+  // edge of factor 0 is always cut, even if the solid then unfolds into several nets.
+  std::vector<double> edge_weight;
 };
 
 struct Net {

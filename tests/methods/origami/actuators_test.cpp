@@ -223,7 +223,8 @@ TEST(Actuators, FacesTooNarrowForTheirTrimsAreRefusedWithTheScaleThatWorks) {
   } catch (const UserError& error) {
     const std::string message = error.what();
     EXPECT_EQ(error.category(), ErrorCategory::kInfeasible);
-    EXPECT_NE(message.find("face " + std::to_string(expected) + " is"), std::string::npos)
+    // Messages number faces from 1, as net.svg shows them.
+    EXPECT_NE(message.find("face " + std::to_string(expected + 1) + " is"), std::string::npos)
         << message;
     EXPECT_NE(message.find("by at least 1.03"), std::string::npos) << message;
     EXPECT_NE(message.find("14.60 mm"), std::string::npos) << message;
@@ -254,7 +255,7 @@ TEST(Actuators, AFoldOfMoreThan170DegreesIsRefusedNamingItsHinge) {
   } catch (const UserError& error) {
     const std::string message = error.what();
     EXPECT_EQ(error.category(), ErrorCategory::kInfeasible);
-    EXPECT_NE(message.find("faces 0 and 1"), std::string::npos) << message;
+    EXPECT_NE(message.find("faces 1 and 2"), std::string::npos) << message;
     EXPECT_NE(message.find("175.0°"), std::string::npos) << message;
   }
   EXPECT_THROW(actuate(pattern, {}), std::invalid_argument);  // a hinge without a design

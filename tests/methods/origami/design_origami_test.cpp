@@ -55,6 +55,43 @@ INSTANTIATE_TEST_SUITE_P(Examples, DesignOrigamiSolid,
                                            Example{"icosahedron", 35}, Example{"pyramid", 70}),
                          [](const auto& info) { return std::string(info.param.name); });
 
+// The paper's bunny (issue 27's acceptance: at most 70 faces): its valleys would need the weak
+// case B actuators and its small faces cannot give up their trims, so trees that cut those hinges
+// are tried until every net prints; it folds back onto the solid within its faces' planarity
+// (0.5 % of a face's diameter) and collides nowhere.
+TEST(DesignOrigami, TheLowPolyBunnyUnfoldsIntoNetsThatPrintAndFoldBack) {
+  OrigamiOptions options = default_options();
+  options.room = {340, 340};  // the default printer's bed less its margins
+  const Polyhedron bunny = origami_example("bunny", 70);
+  ASSERT_LE(bunny.faces.size(), 70u);
+  const OrigamiDesign design = design_origami(bunny, options);
+  EXPECT_LT(design.fold_angle_error, 0.1 * std::numbers::pi / 180);
+  EXPECT_LT(design.sharp_error_pct, 0.5);
+  EXPECT_LT(design.curved_plane_error_pct, 0.5);
+  size_t faces = 0, hinges = 0;
+  for (const OrigamiSheet& sheet : design.sheets) {
+    faces += sheet.pattern.num_faces();
+    hinges += sheet.hinges.size();
+    EXPECT_FALSE(sheet.collision) << sheet.pattern.name;
+    EXPECT_TRUE(sheet_overlaps(sheet.sheet).empty()) << sheet.pattern.name;
+  }
+  EXPECT_EQ(faces, bunny.faces.size());
+  EXPECT_GE(hinges, 0.75 * (bunny.faces.size() - 1));
+}
+
+// Cutting hinges to make a net print has a limit: a cube too small for any of its actuators is
+// refused with the scale that works, not printed as six loose squares.
+TEST(DesignOrigami, ASolidTooSmallForItsActuatorsIsRefusedNotCutApart) {
+  try {
+    design_origami(polyhedron_example("cube", 10), default_options());
+    FAIL() << "a 10 mm cube with 10 mm trims";
+  } catch (const UserError& e) {
+    EXPECT_EQ(e.category(), ErrorCategory::kInfeasible);
+    EXPECT_NE(std::string(e.what()).find("scale the pattern by at least"), std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(DesignOrigami, AMostlyConcaveSheetIsPrintedTurnedOverSoThatItsFoldsAreMountains) {
   Polyhedron cube = polyhedron_example("cube", 45);
   for (std::vector<int>& face : cube.faces) std::reverse(face.begin(), face.end());  // inside out

@@ -345,7 +345,7 @@ TEST(FoldSimulation, TwoFlapsFoldingOntoTheSameFaceCollide) {
   EXPECT_GT(together->progress, 0.6);
   EXPECT_LT(together->progress, 0.9);
   EXPECT_EQ(together->folding_actuator, -1);
-  EXPECT_EQ(piece_name(sheet, 4), "actuator 1 (faces 0–2)");
+  EXPECT_EQ(piece_name(sheet, 4), "actuator 2 (faces 1–3)");  // numbered from 1, as net.svg
   const std::optional<FoldCollision> in_order = first_collision(pattern, sheet, 50, true);
   ASSERT_TRUE(in_order.has_value());
   EXPECT_EQ(in_order->folding_actuator, 1);
