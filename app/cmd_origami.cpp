@@ -215,6 +215,12 @@ int run_origami(const OrigamiCliOptions& o, const GlobalOptions& global) {
     sheets.push_back(s);
   }
   if (design.solid) files.push_back({"solid.obj", solid_obj(*design.solid)});
+  // The folded sheet with each triangle's piece (face, then actuator) and sheet, numbered from 0.
+  MeshProperties pieces;
+  for (const char* name : {"piece", "sheet"}) {
+    pieces.set_face(name, *plate.plate.design_fields.find_face(name));
+  }
+  files.push_back({"folded.ply", ply_bytes(plate.folded, pieces)});
 
   nlohmann::ordered_json j;
   j["input"] = o.example.empty() ? o.input : "example " + o.example;
@@ -310,7 +316,7 @@ int run_origami(const OrigamiCliOptions& o, const GlobalOptions& global) {
   fmt::print("design time {:.2f} s\n", design.times.total);
   const std::string n = design.sheets.size() == 1 ? "" : "_N";
   fmt::print(
-      "wrote {}: net{}.svg, crease_pattern{}.svg, pattern{}.fold, simulated.ply (folded), "
+      "wrote {}: net{}.svg, crease_pattern{}.svg, pattern{}.fold, folded.ply, "
       "flat.ply{}, design.json, report.html\n",
       o.output, n, n, n, run.print ? ", plate.gcode, toolpath.json, layers/" : "");
   return 0;
@@ -327,7 +333,7 @@ Command make_origami_command(CLI::App& app, const GlobalOptions& global) {
       "on a TPU layer) whose width bends it by the fold's angle, printed in two materials "
       "(two tools, or pauses to swap the filament). In 70 C water the sheet folds into the "
       "solid. Writes DIR/net.svg (the printed sheet), DIR/crease_pattern.svg and DIR/pattern.fold "
-      "(Origami Simulator opens both), DIR/simulated.ply (the folded sheet), DIR/flat.ply, "
+      "(Origami Simulator opens both), DIR/folded.ply (the folded sheet), DIR/flat.ply, "
       "DIR/plate.gcode, DIR/layers/, DIR/design.json and DIR/report.html. docs/origami.md explains "
       "each step.");
   sub->add_option("input", o->input,

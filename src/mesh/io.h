@@ -56,6 +56,10 @@ void write_ply(const std::filesystem::path& path, const Mesh& mesh,
                const MeshProperties& properties = {},
                PlyEncoding encoding = PlyEncoding::kBinaryLittleEndian);
 
+// The bytes write_ply writes, for outputs that go into a folder written as one (a run folder).
+std::string ply_bytes(const Mesh& mesh, const MeshProperties& properties = {},
+                      PlyEncoding encoding = PlyEncoding::kBinaryLittleEndian);
+
 // Chooses the writer by extension (.obj or .ply); PLY is written binary little endian.
 void write_mesh(const std::filesystem::path& path, const Mesh& mesh,
                 const MeshProperties& properties = {});

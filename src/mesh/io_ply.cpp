@@ -599,8 +599,7 @@ void append_binary(std::string& out, T value, bool swap) {
 }  // namespace
 }  // namespace mesh_io
 
-void write_ply(const std::filesystem::path& path, const Mesh& mesh,
-               const MeshProperties& properties, PlyEncoding encoding) {
+std::string ply_bytes(const Mesh& mesh, const MeshProperties& properties, PlyEncoding encoding) {
   using mesh_io::append_binary;
   using mesh_io::append_double;
   mesh_io::check_mesh_for_writing(mesh, "write_ply");
@@ -660,6 +659,12 @@ void write_ply(const std::filesystem::path& path, const Mesh& mesh,
       for (const ScalarProperty& p : properties.face) append_binary(out, p.values[f], swap);
     }
   }
+  return out;
+}
+
+void write_ply(const std::filesystem::path& path, const Mesh& mesh,
+               const MeshProperties& properties, PlyEncoding encoding) {
+  const std::string out = ply_bytes(mesh, properties, encoding);
   write_file_atomically(path, true, [&](std::ostream& stream) {
     stream.write(out.data(), static_cast<std::streamsize>(out.size()));
   });

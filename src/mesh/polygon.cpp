@@ -8,20 +8,13 @@
 #include <stdexcept>
 #include <vector>
 
+#include "mesh/clipper_path.h"
+
 namespace flatmorph {
 namespace {
 
 // Clipper's integer plane: 1 nm per unit keeps every net of a printer's bed far inside its range.
 constexpr double kClipperScale = 1e6;
-
-ClipperLib::Path to_clipper(const Eigen::MatrixX2d& polygon) {
-  ClipperLib::Path path;
-  for (Eigen::Index i = 0; i < polygon.rows(); ++i) {
-    path.emplace_back(static_cast<ClipperLib::cInt>(std::llround(polygon(i, 0) * kClipperScale)),
-                      static_cast<ClipperLib::cInt>(std::llround(polygon(i, 1) * kClipperScale)));
-  }
-  return path;
-}
 
 }  // namespace
 
@@ -41,8 +34,8 @@ bool polygons_overlap(const Eigen::MatrixX2d& a, const Eigen::MatrixX2d& b) {
   const Eigen::Array2d b_min = b.colwise().minCoeff(), b_max = b.colwise().maxCoeff();
   if ((a_max < b_min).any() || (b_max < a_min).any()) return false;
   ClipperLib::Clipper clipper;
-  clipper.AddPath(to_clipper(a), ClipperLib::ptSubject, true);
-  clipper.AddPath(to_clipper(b), ClipperLib::ptClip, true);
+  clipper.AddPath(to_clipper_path(a, kClipperScale), ClipperLib::ptSubject, true);
+  clipper.AddPath(to_clipper_path(b, kClipperScale), ClipperLib::ptClip, true);
   ClipperLib::Paths common;
   clipper.Execute(ClipperLib::ctIntersection, common, ClipperLib::pftNonZero,
                   ClipperLib::pftNonZero);

@@ -11,6 +11,7 @@
 #include <stdexcept>
 
 #include "common/markup.h"
+#include "mesh/clipper_path.h"
 #include "mesh/polygon.h"
 
 namespace flatmorph {
@@ -143,20 +144,11 @@ std::pair<Eigen::Vector2d, double> pole(const Eigen::MatrixX2d& polygon, double 
 
 constexpr double kClipperScale = 1e6;  // 1 nm per unit
 
-ClipperLib::Path to_clipper(const Eigen::MatrixX2d& polygon) {
-  ClipperLib::Path path;
-  for (Eigen::Index i = 0; i < polygon.rows(); ++i) {
-    path.emplace_back(static_cast<ClipperLib::cInt>(std::llround(polygon(i, 0) * kClipperScale)),
-                      static_cast<ClipperLib::cInt>(std::llround(polygon(i, 1) * kClipperScale)));
-  }
-  return path;
-}
-
 // The union of the pieces, closed by 1 µm so that pieces meeting to rounding make one outline.
 ClipperLib::Paths cut_outline(const std::vector<Eigen::MatrixX2d>& pieces) {
   ClipperLib::Paths paths;
   for (const Eigen::MatrixX2d& piece : pieces) {
-    ClipperLib::Path path = to_clipper(piece);
+    ClipperLib::Path path = to_clipper_path(piece, kClipperScale);
     if (!ClipperLib::Orientation(path)) std::reverse(path.begin(), path.end());
     paths.push_back(std::move(path));
   }

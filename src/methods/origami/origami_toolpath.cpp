@@ -9,6 +9,8 @@
 #include <limits>
 #include <stdexcept>
 
+#include "mesh/clipper_path.h"
+
 namespace flatmorph {
 namespace {
 
@@ -18,24 +20,6 @@ constexpr double kScale = 1e4;  // Clipper units per mm
 // Lines lying exactly on the edge of the area they fill are kept inside it by this much (mm), so
 // that clipping never has to decide about a line on a polygon's edge.
 constexpr double kInside = 1e-3;
-
-cl::Path to_path(const Eigen::MatrixX2d& points) {
-  cl::Path path;
-  for (Eigen::Index i = 0; i < points.rows(); ++i) {
-    path.push_back({static_cast<cl::cInt>(std::llround(points(i, 0) * kScale)),
-                    static_cast<cl::cInt>(std::llround(points(i, 1) * kScale))});
-  }
-  return path;
-}
-
-Eigen::MatrixX2d to_points(const cl::Path& path) {
-  Eigen::MatrixX2d points(path.size(), 2);
-  for (size_t i = 0; i < path.size(); ++i) {
-    points.row(static_cast<Eigen::Index>(i)) << static_cast<double>(path[i].X) / kScale,
-        static_cast<double>(path[i].Y) / kScale;
-  }
-  return points;
-}
 
 cl::Paths offset(const cl::Paths& paths, double delta_mm) {
   cl::ClipperOffset offsetter;
@@ -73,7 +57,7 @@ std::vector<Line> hatch(const cl::Paths& area, const Eigen::Vector2d& dir, doubl
   double lo = std::numeric_limits<double>::infinity(), hi = -lo;
   double along_lo = lo, along_hi = hi;
   for (const cl::Path& path : inner) {
-    const Eigen::MatrixX2d p = to_points(path);
+    const Eigen::MatrixX2d p = from_clipper_path(path, kScale);
     const Eigen::VectorXd across = p * normal, along = p * dir;
     lo = std::min(lo, across.minCoeff());
     hi = std::max(hi, across.maxCoeff());
@@ -89,7 +73,7 @@ std::vector<Line> hatch(const cl::Paths& area, const Eigen::Vector2d& dir, doubl
     ends.row(0) = (c + (along_lo - 1) * dir).transpose();
     ends.row(1) = (c + (along_hi + 1) * dir).transpose();
     cl::Clipper clipper;
-    clipper.AddPath(to_path(ends), cl::ptSubject, false);
+    clipper.AddPath(to_clipper_path(ends, kScale), cl::ptSubject, false);
     clipper.AddPaths(inner, cl::ptClip, true);
     cl::PolyTree tree;
     clipper.Execute(cl::ctIntersection, tree, cl::pftNonZero, cl::pftNonZero);
@@ -98,7 +82,7 @@ std::vector<Line> hatch(const cl::Paths& area, const Eigen::Vector2d& dir, doubl
     std::vector<Eigen::MatrixX2d> row;
     for (const cl::Path& piece : pieces) {
       if (piece.size() < 2) continue;
-      Eigen::MatrixX2d p = to_points(piece);
+      Eigen::MatrixX2d p = from_clipper_path(piece, kScale);
       if ((p.row(p.rows() - 1) - p.row(0)).dot(dir.transpose()) < 0)
         p = p.colwise().reverse().eval();
       if ((p.row(p.rows() - 1) - p.row(0)).norm() < width) continue;
@@ -122,7 +106,7 @@ std::vector<Line> solid_face(const cl::Paths& area, const Eigen::Vector2d& dir, 
   for (const cl::Path& loop : offset(area, -width / 2)) {
     if (loop.size() < 3) continue;
     Eigen::MatrixX2d p(loop.size() + 1, 2);
-    p.topRows(static_cast<Eigen::Index>(loop.size())) = to_points(loop);
+    p.topRows(static_cast<Eigen::Index>(loop.size())) = from_clipper_path(loop, kScale);
     p.row(p.rows() - 1) = p.row(0);
     lines.push_back({std::move(p), true, PathType::kExternalPerimeter});
   }
@@ -224,9 +208,10 @@ Toolpath origami_toolpath(const ActuatedSheet& sheet, const OrigamiPrintSettings
     for (int i = 0; i < 4; ++i) {
       grown.row(i) += (i < 2 ? -m : m) * a.across.transpose();
     }
-    const cl::Paths sheet_part = {to_path(a.quad), to_path(sheet.faces[a.parent_face]),
-                                  to_path(sheet.faces[a.child_face])};
-    const cl::Paths own = boolean({to_path(grown)}, sheet_part, cl::ctIntersection);
+    const cl::Paths sheet_part = {to_clipper_path(a.quad, kScale),
+                                  to_clipper_path(sheet.faces[a.parent_face], kScale),
+                                  to_clipper_path(sheet.faces[a.child_face], kScale)};
+    const cl::Paths own = boolean({to_clipper_path(grown, kScale)}, sheet_part, cl::ctIntersection);
     area.push_back(boolean(own, taken, cl::ctDifference));
     taken = boolean(taken, own, cl::ctUnion);
   }
@@ -234,7 +219,7 @@ Toolpath origami_toolpath(const ActuatedSheet& sheet, const OrigamiPrintSettings
   // What each layer prints, by material, in the sheet's order: faces, then actuators.
   std::array<std::vector<std::vector<Line>>, 2> face_lines;  // along x, along y; per face
   for (const Eigen::MatrixX2d& face : sheet.faces) {
-    const cl::Paths rest = boolean({to_path(face)}, taken, cl::ctDifference);
+    const cl::Paths rest = boolean({to_clipper_path(face, kScale)}, taken, cl::ctDifference);
     face_lines[0].push_back(solid_face(rest, Eigen::Vector2d::UnitX(), w));
     face_lines[1].push_back(solid_face(rest, Eigen::Vector2d::UnitY(), w));
   }

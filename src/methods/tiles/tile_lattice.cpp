@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "common/error.h"
+#include "mesh/clipper_path.h"
 #include "mesh/convex_hull.h"
 
 namespace flatmorph {
@@ -15,23 +16,6 @@ namespace {
 namespace cl = ClipperLib;
 
 constexpr double kScale = 1e4;  // Clipper units per mm
-
-cl::Path to_path(const Eigen::MatrixX2d& points) {
-  cl::Path path;
-  for (Eigen::Index i = 0; i < points.rows(); ++i) {
-    path.push_back({static_cast<cl::cInt>(std::llround(points(i, 0) * kScale)),
-                    static_cast<cl::cInt>(std::llround(points(i, 1) * kScale))});
-  }
-  return path;
-}
-
-Eigen::MatrixX2d to_points(const cl::Path& path) {
-  Eigen::MatrixX2d points(path.size(), 2);
-  for (size_t i = 0; i < path.size(); ++i) {
-    points.row(static_cast<Eigen::Index>(i)) << path[i].X / kScale, path[i].Y / kScale;
-  }
-  return points;
-}
 
 cl::Paths offset(const cl::Paths& paths, double delta_mm) {
   cl::ClipperOffset offsetter;
@@ -55,15 +39,15 @@ TileLattice tile_lattice(const std::vector<TileOutline>& tiles, const LatticeSpe
   cl::Paths tile_paths;
   Eigen::MatrixX2d all_points(0, 2);
   for (const TileOutline& tile : tiles) {
-    tile_paths.push_back(to_path(tile.boundary));
+    tile_paths.push_back(to_clipper_path(tile.boundary, kScale));
     all_points.conservativeResize(all_points.rows() + tile.boundary.rows(), 2);
     all_points.bottomRows(tile.boundary.rows()) = tile.boundary;
   }
   cl::Paths sheet;
   if (spec.outline.rows() >= 3) {
-    sheet.push_back(to_path(spec.outline));
+    sheet.push_back(to_clipper_path(spec.outline, kScale));
   } else {
-    sheet = offset({to_path(convex_hull(all_points))}, spec.margin_mm);
+    sheet = offset({to_clipper_path(convex_hull(all_points), kScale)}, spec.margin_mm);
   }
 
   TileLattice out;
@@ -75,7 +59,7 @@ TileLattice tile_lattice(const std::vector<TileOutline>& tiles, const LatticeSpe
                     "the lattice's sheet outline is not one loop: give one closed outline");
   }
   TileOutline region;
-  region.boundary = to_points(sheet[0]);
+  region.boundary = from_clipper_path(sheet[0], kScale);
   if (!cl::Orientation(sheet[0])) region.boundary = region.boundary.colwise().reverse().eval();
   region.source = "lattice";
   for (size_t t = 0; t < tiles.size(); ++t) {
@@ -137,7 +121,7 @@ TileLattice tile_lattice(const std::vector<TileOutline>& tiles, const LatticeSpe
       std::vector<Eigen::MatrixX2d> segments;
       for (const cl::Path& piece : pieces) {
         if (piece.size() < 2) continue;
-        Eigen::MatrixX2d points = to_points(piece);
+        Eigen::MatrixX2d points = from_clipper_path(piece, kScale);
         const int axis = along_x ? 0 : 1;
         if (points(0, axis) > points(points.rows() - 1, axis))
           points = points.colwise().reverse().eval();

@@ -13,6 +13,7 @@
 #include <tuple>
 
 #include "common/error.h"
+#include "mesh/clipper_path.h"
 
 namespace flatmorph {
 namespace {
@@ -359,25 +360,6 @@ Eigen::MatrixX2d simplified(const Eigen::MatrixX2d& loop, double tolerance) {
   return out;
 }
 
-ClipperLib::Path to_clipper(const Eigen::MatrixX2d& loop, double scale) {
-  ClipperLib::Path path;
-  path.reserve(static_cast<size_t>(loop.rows()));
-  for (Eigen::Index i = 0; i < loop.rows(); ++i) {
-    path.emplace_back(static_cast<ClipperLib::cInt>(std::llround(loop(i, 0) * scale)),
-                      static_cast<ClipperLib::cInt>(std::llround(loop(i, 1) * scale)));
-  }
-  return path;
-}
-
-Eigen::MatrixX2d from_clipper(const ClipperLib::Path& path, double scale) {
-  Eigen::MatrixX2d loop(static_cast<Eigen::Index>(path.size()), 2);
-  for (size_t i = 0; i < path.size(); ++i) {
-    loop(static_cast<Eigen::Index>(i), 0) = static_cast<double>(path[i].X) / scale;
-    loop(static_cast<Eigen::Index>(i), 1) = static_cast<double>(path[i].Y) / scale;
-  }
-  return loop;
-}
-
 // One connected piece of an offset region.
 struct Piece {
   Eigen::MatrixX2d outer;               // counter-clockwise
@@ -405,7 +387,7 @@ std::vector<Piece> offset_pieces(ClipperLib::ClipperOffset& offsetter, double de
   std::vector<Eigen::MatrixX2d> holes;
   for (const ClipperLib::Path& path : paths) {
     if (path.size() < 3) continue;
-    Eigen::MatrixX2d loop = from_clipper(path, scale);
+    Eigen::MatrixX2d loop = from_clipper_path(path, scale);
     const double area = signed_area(loop);
     if (area > 0) {
       Piece piece;
@@ -497,11 +479,11 @@ TileRings tile_rings(const TileOutline& outline, const RingOptions& options) {
   const double simplification = o.arc_tolerance / 2;
   const double arc_units = o.arc_tolerance / 2 * o.scale / 2.25;
   ClipperLib::ClipperOffset offsetter(2.0, arc_units);
-  offsetter.AddPath(to_clipper(simplified(checked.boundary, simplification), o.scale),
+  offsetter.AddPath(to_clipper_path(simplified(checked.boundary, simplification), o.scale),
                     ClipperLib::jtRound, ClipperLib::etClosedPolygon);
   for (const Eigen::MatrixX2d& hole : checked.holes) {
-    offsetter.AddPath(to_clipper(simplified(hole, simplification), o.scale), ClipperLib::jtRound,
-                      ClipperLib::etClosedPolygon);
+    offsetter.AddPath(to_clipper_path(simplified(hole, simplification), o.scale),
+                      ClipperLib::jtRound, ClipperLib::etClosedPolygon);
   }
 
   TileRings result;
@@ -602,11 +584,11 @@ TileRings tile_rings(const TileOutline& outline, const RingOptions& options) {
   if (deepest_pieces.empty()) deepest_pieces = offset_pieces(offsetter, 0, o.scale);
   ClipperLib::ClipperOffset deeper(2.0, arc_units);
   for (const Piece& piece : deepest_pieces) {
-    deeper.AddPath(to_clipper(simplified(piece.outer, o.arc_tolerance), o.scale),
+    deeper.AddPath(to_clipper_path(simplified(piece.outer, o.arc_tolerance), o.scale),
                    ClipperLib::jtRound, ClipperLib::etClosedPolygon);
     for (const Eigen::MatrixX2d& hole : piece.holes) {
-      deeper.AddPath(to_clipper(simplified(hole, o.arc_tolerance), o.scale), ClipperLib::jtRound,
-                     ClipperLib::etClosedPolygon);
+      deeper.AddPath(to_clipper_path(simplified(hole, o.arc_tolerance), o.scale),
+                     ClipperLib::jtRound, ClipperLib::etClosedPolygon);
     }
   }
   Point deepest_point = deepest_pieces.empty()
