@@ -15,6 +15,7 @@
 
 #include "commands.h"
 #include "common/error.h"
+#include "gcode/gcode_writer.h"
 #include "gcode/printer_profile.h"
 #include "material/material.h"
 #include "mesh/io.h"
@@ -213,6 +214,14 @@ int run_origami(const OrigamiCliOptions& o, const GlobalOptions& global) {
                         {"avoided_in_fold_order", !sheet.order_collision}};
     }
     sheets.push_back(s);
+  }
+  // A one-nozzle printer pauses for each swap; one file per material serves those that cannot
+  // (the paper's F1-F5).
+  if (plan && printer.extruder_count == 1) {
+    for (const MaterialFile& part : make_material_files(
+             design.toolpath, printer, {options.pla, options.tpu}, plan->gcode_options)) {
+      files.push_back({"plate-" + part.label + ".gcode", part.gcode.text});
+    }
   }
   if (design.solid) files.push_back({"solid.obj", solid_obj(*design.solid)});
   // The folded sheet with each triangle's piece (face, then actuator) and sheet, numbered from 0.

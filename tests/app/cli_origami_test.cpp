@@ -67,6 +67,12 @@ TEST(CliOrigami, AOneToolPrinterPausesForTheTpuAndThePrintPassesTheCheck) {
   const auto check = run_cli({"check", (dir / "plate.gcode").string(), "--printer", "prusa-mk4",
                               "--material", "pla-generic,tpu-generic"});
   EXPECT_EQ(check.exit_code, 0) << check.out << check.err;
+  // And one file per material for printers that cannot pause: PLA, then TPU in the last layer.
+  for (const char* part : {"plate-F1.gcode", "plate-F2.gcode"}) {
+    const auto each = run_cli({"check", (dir / part).string(), "--printer", "prusa-mk4"});
+    EXPECT_EQ(each.exit_code, 0) << part << ": " << each.out << each.err;
+  }
+  EXPECT_FALSE(std::filesystem::exists(dir / "plate-F3.gcode"));
 }
 
 TEST(CliOrigami, RefusesMeshesThatCannotFoldAndBadRequestsBeforeAnyWork) {
