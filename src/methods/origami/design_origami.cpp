@@ -209,13 +209,63 @@ void make_sheets(std::vector<OrigamiSheet> prepared, const OrigamiOptions& optio
 
 }  // namespace
 
+LayerStack printed_sheet_stack(const std::vector<OrigamiSheet>& sheets,
+                               const Eigen::VectorXi& sheet_of, const Eigen::VectorXi& piece,
+                               const OrigamiOptions& options) {
+  const HingeStack& stack = options.print.stack;
+  const int num_faces = static_cast<int>(piece.size());
+  LayerStack out;
+  out.materials = {options.pla, options.tpu};
+  // The faces shrink by the same rule as the active PLA (active_lambda1 at their slower speed,
+  // the bed side more), their directions crossed so that they stay nearly flat (notes §8).
+  const auto [slowest, fastest] = active_speed_range(options.pla);
+  const double face_lambda1 =
+      active_lambda1(options.pla, stack, std::clamp(options.print.face_speed, slowest, fastest));
+  const int num_layers = stack.pla_layers + stack.tpu_layers;
+  const double rise = std::abs(options.pla.delta_lambda1);
+  for (int k = 0; k < num_layers; ++k) {
+    Layer layer = uniform_layer(num_faces, 0, options.pla, stack.layer_height);
+    layer.lambda1.setConstant(face_lambda1 + ((k + 0.5) / num_layers - 0.5) * rise);
+    layer.delta_lambda1.setConstant(rise / num_layers);
+    layer.lambda2.setOnes();
+    layer.lambda3.setOnes();
+    layer.theta.setConstant(k % 2 == 0 ? 0.0 : std::numbers::pi / 2);  // layer 1 along x
+    out.layers.push_back(layer);
+  }
+  // Each actuator's own layers (actuator_layer_stack), once per actuator.
+  std::vector<std::vector<LayerStack>> own(sheets.size());
+  for (size_t s = 0; s < sheets.size(); ++s) {
+    for (const Actuator& actuator : sheets[s].sheet.actuators) {
+      own[s].push_back(actuator_layer_stack(
+          options.pla, options.tpu, stack,
+          active_lambda1(options.pla, stack, actuator.hinge.pla_speed), actuator.hinge.pla_on_bed,
+          std::atan2(actuator.across.y(), actuator.across.x()), 1));
+    }
+  }
+  for (int t = 0; t < num_faces; ++t) {
+    const int faces = static_cast<int>(sheets[sheet_of(t)].sheet.faces.size());
+    if (piece(t) < faces) continue;
+    const LayerStack& from = own[sheet_of(t)][piece(t) - faces];
+    for (size_t k = 0; k < out.layers.size(); ++k) {
+      const Layer& a = from.layers[k];
+      Layer& b = out.layers[k];
+      b.printed_thickness(t) = a.printed_thickness(0);
+      b.material(t) = a.material(0);
+      b.theta(t) = a.theta(0);
+      b.lambda1(t) = a.lambda1(0);
+      b.delta_lambda1(t) = a.delta_lambda1(0);
+      b.lambda2(t) = a.lambda2(0);
+      b.lambda3(t) = a.lambda3(0);
+      b.cover(t) = a.cover(0);
+    }
+  }
+  return out;
+}
+
 OrigamiPlate origami_plate(const OrigamiDesign& design, const OrigamiOptions& options,
                            int arc_steps) {
-  const HingeStack& stack = options.print.stack;
-  const int num_layers = stack.pla_layers + stack.tpu_layers;
   std::vector<Eigen::MatrixXd> flat_parts, folded_parts;
   std::vector<Eigen::MatrixXi> face_parts;
-  std::vector<Layer> layers;
   std::vector<double> piece, sheet_of;
   int num_vertices = 0;
   for (size_t s = 0; s < design.sheets.size(); ++s) {
@@ -256,45 +306,10 @@ OrigamiPlate origami_plate(const OrigamiDesign& design, const OrigamiOptions& op
     throw std::logic_error("origami_plate: folded_mesh's triangles are not its pieces'");
   }
 
-  // The stack: PLA faces; each actuator's triangles take the actuator's own layers.
+  plate.stack = printed_sheet_stack(
+      design.sheets, Eigen::Map<const Eigen::VectorXd>(sheet_of.data(), rows).cast<int>(),
+      Eigen::Map<const Eigen::VectorXd>(piece.data(), rows).cast<int>(), options);
   const int num_faces = static_cast<int>(rows);
-  plate.stack.materials = {options.pla, options.tpu};
-  const double face_lambda1 =
-      printed_lambda1(options.pla, stack.layer_height, options.print.face_speed);
-  for (int k = 0; k < num_layers; ++k) {
-    Layer layer = uniform_layer(num_faces, 0, options.pla, stack.layer_height);
-    layer.lambda1.setConstant(face_lambda1);
-    layer.theta.setConstant(k % 2 == 0 ? 0.0 : std::numbers::pi / 2);  // layer 1 along x
-    layers.push_back(layer);
-  }
-  Eigen::Index t = 0;
-  for (const OrigamiSheet& sheet : design.sheets) {
-    t += [&] {
-      Eigen::Index n = 0;
-      for (const Eigen::MatrixX2d& face : sheet.sheet.faces) n += face.rows() - 2;
-      return n;
-    }();
-    for (const Actuator& actuator : sheet.sheet.actuators) {
-      const LayerStack own = actuator_layer_stack(
-          options.pla, options.tpu, stack,
-          active_lambda1(options.pla, stack, actuator.hinge.pla_speed), actuator.hinge.pla_on_bed,
-          std::atan2(actuator.across.y(), actuator.across.x()), 1);
-      for (int k = 0; k < num_layers; ++k) {
-        const Layer& from = own.layers[k];
-        Layer& to = layers[k];
-        to.printed_thickness.segment(t, 2 * arc_steps).setConstant(from.printed_thickness(0));
-        to.material.segment(t, 2 * arc_steps).setConstant(from.material(0));
-        to.theta.segment(t, 2 * arc_steps).setConstant(from.theta(0));
-        to.lambda1.segment(t, 2 * arc_steps).setConstant(from.lambda1(0));
-        to.delta_lambda1.segment(t, 2 * arc_steps).setConstant(from.delta_lambda1(0));
-        to.lambda2.segment(t, 2 * arc_steps).setConstant(from.lambda2(0));
-        to.lambda3.segment(t, 2 * arc_steps).setConstant(from.lambda3(0));
-        to.cover.segment(t, 2 * arc_steps).setConstant(from.cover(0));
-      }
-      t += 2 * arc_steps;
-    }
-  }
-  plate.stack.layers = std::move(layers);
   plate.design_fields.set_face("piece", Eigen::Map<const Eigen::VectorXd>(piece.data(), num_faces));
   plate.design_fields.set_face("sheet",
                                Eigen::Map<const Eigen::VectorXd>(sheet_of.data(), num_faces));

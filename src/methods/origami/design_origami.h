@@ -92,6 +92,15 @@ OrigamiDesign design_origami(const Polyhedron& solid, const OrigamiOptions& opti
 // folding and print. Throws as design_origami.
 OrigamiDesign design_origami_pattern(const CreasePattern& pattern, const OrigamiOptions& options);
 
+// The layers of a plate whose triangle t lies in piece piece(t) (a face, then the actuators, from
+// 0) of sheet sheet_of(t): faces PLA in every layer, their lines turning 90° from layer to layer
+// (layer 1 along x), shrinking as active_lambda1 says at the face speed (λ2 = λ3 = 1, the bed side
+// more, as the actuators' PLA); actuators as actuator_layer_stack prints them (the active
+// PLA's λ1 from its speed, the TPU along the hinge). Materials {pla, tpu}.
+LayerStack printed_sheet_stack(const std::vector<OrigamiSheet>& sheets,
+                               const Eigen::VectorXi& sheet_of, const Eigen::VectorXi& piece,
+                               const OrigamiOptions& options);
+
 // The printed sheets as one plate (flat.ply and its stack), and the same triangles folded (the
 // curved model, folded.ply: vertex for vertex the plate's): each face and each actuator strip
 // (`arc_steps` strips across) triangulated apart; the faces PLA in every layer, their lines
