@@ -509,20 +509,12 @@ HingeSheet parse_hinge_measurements(std::string_view text, const std::string& so
   std::vector<std::string> names;
   int header_line = 0;
   bool kind = false;
-  int line = 0;
-  size_t pos = 0;
-  while (pos < text.size()) {
-    const size_t end = std::min(text.find('\n', pos), text.size());
-    const std::string_view raw = trim_cell(text.substr(pos, end - pos));
-    pos = end + 1;
-    ++line;
-    if (raw.empty()) continue;
-    if (raw.front() == '#') {
-      const std::string_view body = trim_cell(raw.substr(1));
-      const size_t eq = body.find(" = ");
-      if (eq == std::string_view::npos) continue;
-      const std::string key(trim_cell(body.substr(0, eq)));
-      const std::string_view value = trim_cell(body.substr(eq + 3));
+  for (const SheetLine& l : sheet_lines(text)) {
+    const int line = l.line;
+    const std::string_view raw = l.text;
+    if (l.comment) {
+      const std::string& key = l.key;
+      const std::string_view value = l.value;
       const std::string where = fmt::format("{}: line {}", source, line);
       if (key == "kind") {
         if (value != "hinge-sheet") {

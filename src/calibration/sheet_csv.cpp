@@ -92,4 +92,29 @@ size_t SheetRow::index(const std::string& column) const {
   return static_cast<size_t>(std::find(names_.begin(), names_.end(), column) - names_.begin());
 }
 
+std::vector<SheetLine> sheet_lines(std::string_view text) {
+  std::vector<SheetLine> out;
+  int line = 0;
+  for (size_t pos = 0; pos < text.size();) {
+    const size_t end = std::min(text.find('\n', pos), text.size());
+    const std::string_view raw = trim_cell(text.substr(pos, end - pos));
+    pos = end + 1;
+    ++line;
+    if (raw.empty()) continue;
+    SheetLine l;
+    l.line = line;
+    l.text = raw;
+    if (raw.front() == '#') {
+      const std::string_view body = trim_cell(raw.substr(1));
+      const size_t eq = body.find(" = ");
+      if (eq == std::string_view::npos) continue;
+      l.comment = true;
+      l.key = trim_cell(body.substr(0, eq));
+      l.value = trim_cell(body.substr(eq + 3));
+    }
+    out.push_back(std::move(l));
+  }
+  return out;
+}
+
 }  // namespace flatmorph

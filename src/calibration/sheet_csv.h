@@ -13,6 +13,17 @@ std::string_view trim_cell(std::string_view s);
 std::string lower_case(std::string_view s);
 std::vector<std::string_view> split_cells(std::string_view line);
 
+// A line of a sheet that says something: a "# key = value" comment (other comments and blank
+// lines are left out) or a row, trimmed; `line` counts from 1.
+struct SheetLine {
+  int line = 0;
+  bool comment = false;
+  std::string key;         // a comment's
+  std::string_view value;  // a comment's
+  std::string_view text;   // the whole line, trimmed
+};
+std::vector<SheetLine> sheet_lines(std::string_view text);
+
 // One row of a sheet. Every error is a UserError(kFormat): "FILE: line L, column C (NAME): ...".
 class SheetRow {
  public:
