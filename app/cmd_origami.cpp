@@ -24,6 +24,7 @@
 #include "methods/origami/fold_file.h"
 #include "methods/origami/net_svg.h"
 #include "methods/origami/planar_faces.h"
+#include "methods/origami/sheet_simulation.h"
 #include "methods/origami/solid_estimate.h"
 #include "print_summary.h"
 #include "progress_display.h"
@@ -46,6 +47,8 @@ struct OrigamiCliOptions {
   double actuator_speed = 150;
   double actuator_width = 0;
   double flat_angle_deg = 1;
+  bool simulate = false;
+  double mesh_edge_mm = 1.5;
   bool slicer = true;
   bool gcode = true;
   bool json = false;
@@ -76,6 +79,8 @@ void check(const OrigamiCliOptions& o) {
   require(o.actuator_width >= 0 && o.actuator_width <= 100,
           fmt::format("--actuator-width {}: give a width in mm, or 0 to take it from the speed",
                       o.actuator_width));
+  require(o.mesh_edge_mm >= 0.3 && o.mesh_edge_mm <= 10,
+          fmt::format("--mesh-edge {}: give 0.3 to 10 mm", o.mesh_edge_mm));
   require(o.flat_angle_deg >= 0 && o.flat_angle_deg < 30,
           fmt::format("--flat-angle {}: give degrees in [0, 30)", o.flat_angle_deg));
 }
@@ -182,6 +187,17 @@ int run_origami(const OrigamiCliOptions& o, const GlobalOptions& global) {
     }
   }
 
+  // The judge: each sheet meshed as one plate and folded by the shared simulator.
+  std::vector<SheetSimulation> simulated;
+  if (o.simulate) {
+    for (size_t i = 0; i < design.sheets.size(); ++i) {
+      report_progress(options.progress,
+                      {"simulate", static_cast<int>(i) + 1, static_cast<int>(design.sheets.size()),
+                       NAN, design.sheets[i].pattern.name});
+      simulated.push_back(simulate_sheet(design, static_cast<int>(i), options, o.mesh_edge_mm));
+    }
+  }
+
   std::vector<RunFile> files;
   nlohmann::ordered_json sheets = nlohmann::ordered_json::array();
   for (size_t i = 0; i < design.sheets.size(); ++i) {
@@ -205,6 +221,20 @@ int run_origami(const OrigamiCliOptions& o, const GlobalOptions& global) {
       s["solid_face"] = solid_face;
     }
     s["hinges"] = hinges_json(sheet);
+    if (!simulated.empty()) {
+      const SheetSimulation& sim = simulated[i];
+      for (size_t a = 0; a < sim.fold_angle.size(); ++a) {
+        s["hinges"][a]["simulated_angle_deg"] = sim.fold_angle[a] / kDegree;
+      }
+      s["simulated"] = {{"faces", sim.plate.F.rows()},
+                        {"converged", sim.result.converged},
+                        {"to_design_mean_pct", sim.to_design.mean_percent},
+                        {"to_design_max_pct", sim.to_design.max_percent}};
+      MeshProperties piece;
+      piece.set_face("piece", sim.piece.cast<double>());
+      files.push_back(
+          {"sheet_simulated" + stem + ".ply", ply_bytes(Mesh{sim.result.V, sim.plate.F}, piece)});
+    }
     s["corner_gap_mm"] = sheet.corner_gap;
     if (sheet.collision) {
       s["collision"] = {{"pieces",
@@ -259,6 +289,21 @@ int run_origami(const OrigamiCliOptions& o, const GlobalOptions& global) {
   bool collides = false;
   for (const OrigamiSheet& sheet : design.sheets) collides = collides || sheet.collision;
   m["collision"] = collides;
+  if (!simulated.empty()) {
+    double worst = 0, mean = 0;
+    bool converged = true;
+    for (size_t i = 0; i < simulated.size(); ++i) {
+      for (size_t a = 0; a < simulated[i].fold_angle.size(); ++a) {
+        worst = std::max(
+            worst, std::abs(simulated[i].fold_angle[a] - design.sheets[i].hinges[a].fold_angle));
+      }
+      mean = std::max(mean, simulated[i].to_design.mean_percent);
+      converged = converged && simulated[i].result.converged;
+    }
+    m["sim_hinge_error_max_rad"] = worst;
+    m["sim_to_design_mean_pct"] = mean;
+    m["sim_converged"] = converged;
+  }
   m["t_unfold_s"] = design.times.unfold;
   m["t_actuate_s"] = design.times.actuate;
   m["t_fold_s"] = design.times.fold;
@@ -378,6 +423,12 @@ Command make_origami_command(CLI::App& app, const GlobalOptions& global) {
       ->capture_default_str();
   sub->add_option("--flat-angle", o->flat_angle_deg,
                   "Folds of less than this many degrees print no actuator")
+      ->capture_default_str();
+  sub->add_flag("--simulate", o->simulate,
+                "Fold each printed sheet with the shared simulator (faces and actuators meshed as "
+                "one plate with the layers printed there, started from the design): each hinge's "
+                "simulated angle in design.json, DIR/sheet_simulated.ply");
+  sub->add_option("--mesh-edge", o->mesh_edge_mm, "Longest edge of --simulate's mesh, mm")
       ->capture_default_str();
   sub->add_flag("!--no-slicer", o->slicer,
                 "Do not run PrusaSlicer (when installed) for the solid's print time; use the "

@@ -217,7 +217,7 @@ LayerStack printed_sheet_stack(const std::vector<OrigamiSheet>& sheets,
   LayerStack out;
   out.materials = {options.pla, options.tpu};
   // The faces shrink by the same rule as the active PLA (active_lambda1 at their slower speed,
-  // the bed side more), their directions crossed so that they stay nearly flat (notes §8).
+  // the bed side more), their directions crossed as the toolpath lays them.
   const auto [slowest, fastest] = active_speed_range(options.pla);
   const double face_lambda1 =
       active_lambda1(options.pla, stack, std::clamp(options.print.face_speed, slowest, fastest));
@@ -229,7 +229,7 @@ LayerStack printed_sheet_stack(const std::vector<OrigamiSheet>& sheets,
     layer.delta_lambda1.setConstant(rise / num_layers);
     layer.lambda2.setOnes();
     layer.lambda3.setOnes();
-    layer.theta.setConstant(k % 2 == 0 ? 0.0 : std::numbers::pi / 2);  // layer 1 along x
+    layer.theta.setConstant(face_lines_along_y(k, num_layers) ? std::numbers::pi / 2 : 0.0);
     out.layers.push_back(layer);
   }
   // Each actuator's own layers (actuator_layer_stack), once per actuator.

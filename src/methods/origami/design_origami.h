@@ -93,21 +93,19 @@ OrigamiDesign design_origami(const Polyhedron& solid, const OrigamiOptions& opti
 OrigamiDesign design_origami_pattern(const CreasePattern& pattern, const OrigamiOptions& options);
 
 // The layers of a plate whose triangle t lies in piece piece(t) (a face, then the actuators, from
-// 0) of sheet sheet_of(t): faces PLA in every layer, their lines turning 90° from layer to layer
-// (layer 1 along x), shrinking as active_lambda1 says at the face speed (λ2 = λ3 = 1, the bed side
-// more, as the actuators' PLA); actuators as actuator_layer_stack prints them (the active
-// PLA's λ1 from its speed, the TPU along the hinge). Materials {pla, tpu}.
+// 0) of sheet sheet_of(t): faces PLA in every layer, their lines crossed as face_lines_along_y
+// says, shrinking as active_lambda1 says at the face speed (λ2 = λ3 = 1, the bed side more, as the
+// actuators' PLA); actuators as actuator_layer_stack prints them (the active PLA's λ1 from its
+// speed, the TPU along the hinge). Materials {pla, tpu}.
 LayerStack printed_sheet_stack(const std::vector<OrigamiSheet>& sheets,
                                const Eigen::VectorXi& sheet_of, const Eigen::VectorXi& piece,
                                const OrigamiOptions& options);
 
 // The printed sheets as one plate (flat.ply and its stack), and the same triangles folded (the
 // curved model, folded.ply: vertex for vertex the plate's): each face and each actuator strip
-// (`arc_steps` strips across) triangulated apart; the faces PLA in every layer, their lines
-// turning 90° from layer to layer at the face speed, the actuators as actuator_layer_stack
-// prints them (the active PLA's λ1 from its speed, the TPU along the hinge). A per-face property
-// "piece" numbers the face (0 ...) or actuator (faces + a) of each sheet a triangle belongs to,
-// "sheet" the sheet.
+// (`arc_steps` strips across) triangulated apart, with printed_sheet_stack's layers. A per-face
+// property "piece" numbers the face (0 ...) or actuator (faces + a) of each sheet a triangle
+// belongs to, "sheet" the sheet.
 struct OrigamiPlate {
   PlateDesign plate;
   Mesh folded;

@@ -194,6 +194,8 @@ PathPolyline path_of(const Line& line, double z, double height, double width, do
 
 }  // namespace
 
+bool face_lines_along_y(int k, int num_layers) { return std::min(k, num_layers - 1 - k) % 2 == 1; }
+
 Toolpath origami_toolpath(const ActuatedSheet& sheet, const OrigamiPrintSettings& settings) {
   check_settings(sheet, settings);
   const double w = settings.line_width;
@@ -245,7 +247,7 @@ Toolpath origami_toolpath(const ActuatedSheet& sheet, const OrigamiPrintSettings
     layer.height = settings.stack.layer_height;
     layer.z = (k + 1) * settings.stack.layer_height;
     std::vector<PathPolyline> pla, tpu;
-    for (const std::vector<Line>& lines : face_lines[static_cast<size_t>(k % 2)]) {
+    for (const std::vector<Line>& lines : face_lines[face_lines_along_y(k, layers) ? 1 : 0]) {
       for (const Line& line : lines) {
         pla.push_back(
             path_of(line, layer.z, layer.height, w, settings.face_speed, settings.pla_tool));

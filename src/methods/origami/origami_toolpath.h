@@ -21,18 +21,24 @@ struct OrigamiPrintSettings {
   int tpu_tool = 1;
 };
 
+// Whether layer k (0 on the bed) of a sheet of `num_layers` lays its faces' lines along y rather
+// than x: crossed layers, mirrored about the middle (x, y, y, x for four), so that the faces'
+// laminate is symmetric and their shrink does not warp them (an antisymmetric x, y, x, y couples
+// stretch to twist: simulated faces saddled and held two of a cube's hinges at 45°).
+bool face_lines_along_y(int k, int num_layers);
+
 // The toolpath of `sheet` (plate coordinates as the sheet's, the bed at z = 0). Per layer, bottom
-// up: each face solid in PLA (one loop around it, then lines along x on odd layers and along y on
-// even ones, counting from 1) at settings.face_speed; each actuator's area, its quad grown by the
-// stack's overlap into both faces, either active PLA lines along Actuator::across (perpendicular to
-// the hinge) at HingeDesign::pla_speed, or TPU lines along the hinge at settings.stack.tpu_speed,
-// case A PLA in the first stack.pla_layers layers and TPU above, case B the other way round. Beads
-// touch and never overlap: the faces' lines stop where an actuator's area begins, and where two
-// areas meet (at a corner of a face between two hinges) the earlier actuator keeps the common part.
-// Within a layer one material prints, then the other, the layer starting with the material the
-// layer below ended with; the first layer starts with the one that makes fewest changes over the
-// print (ties: PLA). Throws std::invalid_argument for settings that are not positive, equal tools,
-// an actuator without a PLA speed, or a sheet without faces.
+// up: each face solid in PLA (one loop around it, then lines along x or y as face_lines_along_y
+// says) at settings.face_speed; each actuator's area, its quad grown by the stack's overlap into
+// both faces, either active PLA lines along Actuator::across (perpendicular to the hinge) at
+// HingeDesign::pla_speed, or TPU lines along the hinge at settings.stack.tpu_speed, case A PLA in
+// the first stack.pla_layers layers and TPU above, case B the other way round. Beads touch and
+// never overlap: the faces' lines stop where an actuator's area begins, and where two areas meet
+// (at a corner of a face between two hinges) the earlier actuator keeps the common part. Within a
+// layer one material prints, then the other, the layer starting with the material the layer below
+// ended with; the first layer starts with the one that makes fewest changes over the print (ties:
+// PLA). Throws std::invalid_argument for settings that are not positive, equal tools, an actuator
+// without a PLA speed, or a sheet without faces.
 Toolpath origami_toolpath(const ActuatedSheet& sheet, const OrigamiPrintSettings& settings = {});
 
 }  // namespace flatmorph
