@@ -264,7 +264,10 @@ int run_origami(const OrigamiCliOptions& o, const GlobalOptions& global) {
   nlohmann::ordered_json j;
   j["input"] = o.example.empty() ? o.input : "example " + o.example;
   j["max_faces"] = o.faces;
-  j["size_mm"] = o.size_mm;
+  if (design.solid) {
+    const Eigen::MatrixX3d& V = design.solid->V;
+    j["size_mm"] = (V.colwise().maxCoeff() - V.colwise().minCoeff()).maxCoeff();
+  }
   j["material"] = options.pla.name;
   j["hinge_material"] = options.tpu.name;
   j["printer"] = printer.name;
