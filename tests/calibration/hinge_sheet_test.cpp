@@ -212,7 +212,7 @@ TEST(HingeSheet, FitRecoversAKnownCurveFromTheFilledInSheet) {
 }
 
 TEST(HingeSheet, MeasurementErrorsNameTheLineAndTheColumn) {
-  for (const auto& [row, says] : std::vector<std::pair<std::string, std::string>>{
+  for (const auto& [bad_row, says] : std::vector<std::pair<std::string, std::string>>{
            {"1,A,50,5,1,", "column 6 (fold_angle): the value is missing"},
            {"1,C,50,5,1,10", "\"C\" is no case"},
            {"1,A,3000,5,1,10", "3000 mm/s is faster than any printer"},
@@ -220,6 +220,7 @@ TEST(HingeSheet, MeasurementErrorsNameTheLineAndTheColumn) {
            {"1,A,50,5,1,12deg", "\"12deg\" is not a number"},
            {"2,A,50,5,1,10", "strip 2 appears twice"},
        }) {
+    const std::string row = bad_row;  // clang 14 lambdas cannot capture a structured binding
     const std::string message = error_of([&] { filled_sheet({row}); }, ErrorCategory::kFormat);
     EXPECT_NE(message.find("hinge.csv: line"), std::string::npos) << message;
     EXPECT_NE(message.find(says), std::string::npos) << message;
