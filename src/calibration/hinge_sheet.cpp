@@ -551,15 +551,7 @@ HingeSheet parse_hinge_measurements(std::string_view text, const std::string& so
                                     source));
       }
       header_line = line;
-      for (std::string_view cell : split_cells(raw)) names.push_back(lower_case(cell));
-      for (const char* column : kColumns) {
-        if (std::find(names.begin(), names.end(), column) == names.end()) {
-          throw UserError(ErrorCategory::kFormat,
-                          fmt::format("{}: line {}: no column \"{}\"; the first line that is not a "
-                                      "# comment must name the columns: {}",
-                                      source, line, column, fmt::join(kColumns, ",")));
-        }
-      }
+      names = sheet_columns(raw, line, source, kColumns);
       continue;
     }
     std::vector<std::string_view> cells = split_cells(raw);

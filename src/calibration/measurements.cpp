@@ -154,15 +154,7 @@ MeasurementSheet parse_measurements(std::string_view text, const std::string& so
     }
     if (names.empty()) {
       header_line = line;
-      for (std::string_view cell : split_cells(raw)) names.push_back(lower_case(cell));
-      for (const char* column : kRequiredColumns) {
-        if (std::find(names.begin(), names.end(), column) == names.end()) {
-          throw UserError(ErrorCategory::kFormat,
-                          fmt::format("{}: line {}: no column \"{}\"; the first line that is not a "
-                                      "# comment must name the columns: {}",
-                                      source, line, column, fmt::join(kRequiredColumns, ",")));
-        }
-      }
+      names = sheet_columns(raw, line, source, kRequiredColumns);
       if (sheet.speed_ramp && std::find(names.begin(), names.end(), "print_speed") == names.end()) {
         throw UserError(ErrorCategory::kFormat,
                         fmt::format("{}: line {}: no column \"print_speed\", which a speed-ramp "

@@ -1,6 +1,7 @@
 #include "calibration/sheet_csv.h"
 
 #include <fmt/core.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <charconv>
@@ -115,6 +116,21 @@ std::vector<SheetLine> sheet_lines(std::string_view text) {
     out.push_back(std::move(l));
   }
   return out;
+}
+
+std::vector<std::string> sheet_columns(std::string_view raw, int line, const std::string& source,
+                                       std::span<const char* const> required) {
+  std::vector<std::string> names;
+  for (std::string_view cell : split_cells(raw)) names.push_back(lower_case(cell));
+  for (const char* column : required) {
+    if (std::find(names.begin(), names.end(), column) == names.end()) {
+      throw UserError(ErrorCategory::kFormat,
+                      fmt::format("{}: line {}: no column \"{}\"; the first line that is not a "
+                                  "# comment must name the columns: {}",
+                                  source, line, column, fmt::join(required, ",")));
+    }
+  }
+  return names;
 }
 
 }  // namespace flatmorph

@@ -3,6 +3,7 @@
 // that name the file, the line and the column.
 #pragma once
 
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -23,6 +24,11 @@ struct SheetLine {
   std::string_view text;   // the whole line, trimmed
 };
 std::vector<SheetLine> sheet_lines(std::string_view text);
+
+// The column names of a sheet's header line (`raw`, lower-cased). Throws UserError(kFormat) naming
+// `source`, the line and the first of `required` that is missing.
+std::vector<std::string> sheet_columns(std::string_view raw, int line, const std::string& source,
+                                       std::span<const char* const> required);
 
 // One row of a sheet. Every error is a UserError(kFormat): "FILE: line L, column C (NAME): ...".
 class SheetRow {
