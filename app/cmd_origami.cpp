@@ -26,8 +26,10 @@
 #include "methods/origami/planar_faces.h"
 #include "methods/origami/sheet_simulation.h"
 #include "methods/origami/solid_estimate.h"
+#include "plate/actuator_stack.h"
 #include "print_summary.h"
 #include "progress_display.h"
+#include "run/gcode_prediction.h"
 #include "run/print_plan.h"
 #include "run/run_folder.h"
 
@@ -172,10 +174,30 @@ int run_origami(const OrigamiCliOptions& o, const GlobalOptions& global) {
   for (const std::string& warning : design.warnings) notes.push_back(warning);
   const OrigamiPlate plate = origami_plate(design, options);
 
-  std::optional<PrintPlan> plan;
+  // One print per bed: plate.gcode, then plate_2.gcode, ... when the sheets need several.
+  std::vector<PrintPlan> plans;
   if (o.gcode) {
-    plan = plan_toolpath_print(traced_layer_paths(design.toolpath), plate.plate.plate,
-                               plate.plate.F, {options.pla, options.tpu}, printer, {});
+    const Eigen::VectorXd& sheet_of = *plate.plate.design_fields.find_face("sheet");
+    for (int bed = 0; bed < design.num_beds; ++bed) {
+      std::vector<int> rows;
+      for (Eigen::Index t = 0; t < sheet_of.size(); ++t) {
+        if (design.sheets[static_cast<int>(sheet_of(t))].bed == bed) rows.push_back(t);
+      }
+      plans.push_back(plan_toolpath_print(traced_layer_paths(design.bed_toolpaths[bed]),
+                                          plate.plate.plate, plate.plate.F(rows, Eigen::all),
+                                          {options.pla, options.tpu}, printer, {}));
+    }
+  }
+  const auto gcode_name = [](int bed) {
+    return bed == 0 ? std::string("plate") : fmt::format("plate_{}", bed + 1);
+  };
+  double print_time = 0, filament_mm = 0, filament_g = 0;
+  int tool_changes = 0;
+  for (const PrintPlan& plan : plans) {
+    print_time += plan.gcode.print_time;
+    filament_mm += plan.gcode.filament_length;
+    filament_g += plan.gcode.filament_mass;
+    tool_changes += plan.gcode.tool_changes;
   }
   std::optional<SolidPrintEstimate> solid_estimate, slicer_estimate;
   std::string slicer_why;
@@ -198,6 +220,31 @@ int run_origami(const OrigamiCliOptions& o, const GlobalOptions& global) {
     }
   }
 
+  // ... and from what its own plate.gcode deposits (run/gcode_prediction.h), read back with the
+  // PLA as the design models it (thermorph_pla), started from the same fold.
+  std::vector<GcodePrediction> from_gcode;
+  std::vector<std::vector<double>> gcode_angles;
+  if (o.simulate && !plans.empty()) {
+    const std::vector<Material> tool_materials = {thermorph_pla(options.pla, options.print.stack),
+                                                  options.tpu};
+    for (size_t i = 0; i < simulated.size(); ++i) {
+      report_progress(options.progress,
+                      {"simulate", static_cast<int>(i) + 1, static_cast<int>(simulated.size()), NAN,
+                       design.sheets[i].pattern.name + " from plate.gcode"});
+      GcodePredictionOptions predict;
+      predict.plate_V = simulated[i].plate.plate;
+      predict.plate_F = simulated[i].plate.F;
+      predict.start = simulated[i].designed;
+      from_gcode.push_back(predict_from_gcode(plans[design.sheets[i].bed].gcode.text,
+                                              gcode_name(design.sheets[i].bed) + ".gcode",
+                                              tool_materials, predict));
+      const DepositedPlate& deposited = from_gcode.back().plate;
+      gcode_angles.push_back(
+          hinge_fold_angles(design.sheets[i].sheet, deposited.design.plate, deposited.design.F,
+                            simulated[i].piece(deposited.kept_faces), from_gcode.back().result.V));
+    }
+  }
+
   std::vector<RunFile> files;
   nlohmann::ordered_json sheets = nlohmann::ordered_json::array();
   for (size_t i = 0; i < design.sheets.size(); ++i) {
@@ -212,6 +259,8 @@ int run_origami(const OrigamiCliOptions& o, const GlobalOptions& global) {
     s["faces"] = sheet.pattern.num_faces();
     s["root_face"] = sheet.pattern.root + 1;
     s["turned_over"] = sheet.turned_over;
+    s["bed"] = sheet.bed + 1;
+    if (!plans.empty()) s["gcode"] = gcode_name(sheet.bed) + ".gcode";
     std::vector<int> order;
     for (int f : sheet.pattern.fold_order) order.push_back(f + 1);
     s["fold_order"] = order;
@@ -225,6 +274,9 @@ int run_origami(const OrigamiCliOptions& o, const GlobalOptions& global) {
       const SheetSimulation& sim = simulated[i];
       for (size_t a = 0; a < sim.fold_angle.size(); ++a) {
         s["hinges"][a]["simulated_angle_deg"] = sim.fold_angle[a] / kDegree;
+        if (!gcode_angles.empty()) {
+          s["hinges"][a]["gcode_simulated_angle_deg"] = gcode_angles[i][a] / kDegree;
+        }
       }
       s["simulated"] = {{"faces", sim.plate.F.rows()},
                         {"converged", sim.result.converged},
@@ -234,6 +286,15 @@ int run_origami(const OrigamiCliOptions& o, const GlobalOptions& global) {
       piece.set_face("piece", sim.piece.cast<double>());
       files.push_back(
           {"sheet_simulated" + stem + ".ply", ply_bytes(Mesh{sim.result.V, sim.plate.F}, piece)});
+      if (!from_gcode.empty()) {
+        const GcodePrediction& printed = from_gcode[i];
+        s["gcode_simulated"] = {{"faces", printed.plate.design.F.rows()},
+                                {"converged", printed.result.converged}};
+        MeshProperties printed_piece;
+        printed_piece.set_face("piece", sim.piece(printed.plate.kept_faces).cast<double>());
+        files.push_back({"sheet_gcode_simulated" + stem + ".ply",
+                         ply_bytes(Mesh{printed.result.V, printed.plate.design.F}, printed_piece)});
+      }
     }
     s["corner_gap_mm"] = sheet.corner_gap;
     if (sheet.collision) {
@@ -247,10 +308,13 @@ int run_origami(const OrigamiCliOptions& o, const GlobalOptions& global) {
   }
   // A one-nozzle printer pauses for each swap; one file per material serves those that cannot
   // (the paper's F1-F5).
-  if (plan && printer.extruder_count == 1) {
-    for (const MaterialFile& part : make_material_files(
-             design.toolpath, printer, {options.pla, options.tpu}, plan->gcode_options)) {
-      files.push_back({"plate-" + part.label + ".gcode", part.gcode.text});
+  for (int bed = 0; bed < static_cast<int>(plans.size()); ++bed) {
+    if (bed > 0) files.push_back({gcode_name(bed) + ".gcode", plans[bed].gcode.text});
+    if (printer.extruder_count > 1) continue;
+    for (const MaterialFile& part :
+         make_material_files(design.bed_toolpaths[bed], printer, {options.pla, options.tpu},
+                             plans[bed].gcode_options)) {
+      files.push_back({gcode_name(bed) + "-" + part.label + ".gcode", part.gcode.text});
     }
   }
   if (design.solid) files.push_back({"solid.obj", solid_obj(*design.solid)});
@@ -304,6 +368,17 @@ int run_origami(const OrigamiCliOptions& o, const GlobalOptions& global) {
       converged = converged && simulated[i].result.converged;
     }
     m["sim_hinge_error_max_rad"] = worst;
+    if (!gcode_angles.empty()) {
+      double gcode_worst = 0;
+      for (size_t i = 0; i < gcode_angles.size(); ++i) {
+        for (size_t a = 0; a < gcode_angles[i].size(); ++a) {
+          gcode_worst = std::max(
+              gcode_worst, std::abs(gcode_angles[i][a] - design.sheets[i].hinges[a].fold_angle));
+        }
+        converged = converged && from_gcode[i].result.converged;
+      }
+      m["sim_gcode_hinge_error_max_rad"] = gcode_worst;
+    }
     m["sim_to_design_mean_pct"] = mean;
     m["sim_converged"] = converged;
   }
@@ -312,10 +387,11 @@ int run_origami(const OrigamiCliOptions& o, const GlobalOptions& global) {
   m["t_fold_s"] = design.times.fold;
   m["t_toolpath_s"] = design.times.toolpath;
   m["t_design_s"] = design.times.total;
-  if (plan) {
-    m["print_time_s"] = plan->gcode.print_time;
-    m["filament_g"] = plan->gcode.filament_mass;
-    m["tool_changes"] = plan->gcode.tool_changes;
+  if (!plans.empty()) {
+    m["beds"] = plans.size();
+    m["print_time_s"] = print_time;
+    m["filament_g"] = filament_g;
+    m["tool_changes"] = tool_changes;
   }
   const SolidPrintEstimate* solid_print = slicer_estimate  ? &*slicer_estimate
                                           : solid_estimate ? &*solid_estimate
@@ -325,9 +401,9 @@ int run_origami(const OrigamiCliOptions& o, const GlobalOptions& global) {
     m["solid_filament_mm"] = solid_print->filament_mm;
     j["solid_print_estimate"] = solid_print->source;
     if (!slicer_estimate && o.slicer) j["slicer"] = slicer_why;
-    if (plan) {
-      m["time_saving_pct"] = 100 * (1 - plan->gcode.print_time / solid_print->time_s);
-      m["filament_saving_pct"] = 100 * (1 - plan->gcode.filament_length / solid_print->filament_mm);
+    if (!plans.empty()) {
+      m["time_saving_pct"] = 100 * (1 - print_time / solid_print->time_s);
+      m["filament_saving_pct"] = 100 * (1 - filament_mm / solid_print->filament_mm);
     }
   }
 
@@ -335,7 +411,7 @@ int run_origami(const OrigamiCliOptions& o, const GlobalOptions& global) {
   run.method = "origami";
   run.plate = plate.plate;
   run.predicted = plate.folded;
-  run.print = std::move(plan);
+  if (!plans.empty()) run.print = std::move(plans[0]);
   run.files = std::move(files);
   run.parameters = j;
   run.metrics = m;
@@ -348,13 +424,24 @@ int run_origami(const OrigamiCliOptions& o, const GlobalOptions& global) {
   if (o.json) fmt::print("{}\n", record.dump(2));
   if (silent) return 0;
   if (run.print) print_gcode_summary(*run.print, printer);
+  if (run.print && design.num_beds > 1) {
+    std::string names;
+    for (int bed = 0; bed < design.num_beds; ++bed) {
+      names += fmt::format("{}{}.gcode", bed ? ", " : "", gcode_name(bed));
+    }
+    fmt::print(
+        "the sheets need {} beds, one print each ({}): {:.0f} min and {:.2f} m of filament in "
+        "all\n",
+        design.num_beds, names, print_time / 60, filament_mm / 1000);
+  }
   for (const OrigamiSheet& sheet : design.sheets) {
     int mountains = 0;
     for (const Actuator& a : sheet.sheet.actuators) mountains += a.hinge.fold_angle < 0;
-    fmt::print("{}: {} faces, {} hinges ({} mountains, case A; {} valleys, case B){}\n",
+    fmt::print("{}: {} faces, {} hinges ({} mountains, case A; {} valleys, case B){}{}\n",
                sheet.pattern.name, sheet.pattern.num_faces(), sheet.sheet.actuators.size(),
                mountains, sheet.sheet.actuators.size() - mountains,
-               sheet.turned_over ? ", printed inside up" : "");
+               sheet.turned_over ? ", printed inside up" : "",
+               design.num_beds > 1 ? fmt::format(", in {}.gcode", gcode_name(sheet.bed)) : "");
   }
   if (design.solid) {
     fmt::print(
@@ -375,7 +462,10 @@ int run_origami(const OrigamiCliOptions& o, const GlobalOptions& global) {
   fmt::print(
       "wrote {}: net{}.svg, crease_pattern{}.svg, pattern{}.fold, folded.ply, "
       "flat.ply{}, design.json, report.html\n",
-      o.output, n, n, n, run.print ? ", plate.gcode, toolpath.json, layers/" : "");
+      o.output, n, n, n,
+      !run.print            ? ""
+      : design.num_beds > 1 ? ", plate.gcode, plate_N.gcode, toolpath.json, layers/ (the first bed)"
+                            : ", plate.gcode, toolpath.json, layers/");
   return 0;
 }
 
@@ -429,8 +519,9 @@ Command make_origami_command(CLI::App& app, const GlobalOptions& global) {
       ->capture_default_str();
   sub->add_flag("--simulate", o->simulate,
                 "Fold each printed sheet with the shared simulator (faces and actuators meshed as "
-                "one plate with the layers printed there, started from the design): each hinge's "
-                "simulated angle in design.json, DIR/sheet_simulated.ply");
+                "one plate with the layers printed there, started from the design), once from the "
+                "design's layers and once from what plate.gcode deposits: each hinge's simulated "
+                "angles in design.json, DIR/sheet_simulated.ply and sheet_gcode_simulated.ply");
   sub->add_option("--mesh-edge", o->mesh_edge_mm, "Longest edge of --simulate's mesh, mm")
       ->capture_default_str();
   sub->add_flag("!--no-slicer", o->slicer,

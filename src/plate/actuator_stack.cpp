@@ -3,6 +3,7 @@
 #include <fmt/core.h>
 
 #include <Eigen/Cholesky>
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
@@ -53,6 +54,34 @@ double active_lambda1(const Material& pla, const HingeStack& stack, double speed
   const double t =
       (speed - kDefaultActiveMinSpeed) / (kDefaultActiveMaxSpeed - kDefaultActiveMinSpeed);
   return 1 - (kSlowShrink + t * (kFastShrink - kSlowShrink));
+}
+
+Material thermorph_pla(const Material& pla, const HingeStack& stack) {
+  Material out = pla;
+  const bool calibrated = pla.speed_curve.has_value();
+  if (!calibrated) {
+    SpeedCurve curve;
+    const double slope =
+        -(kFastShrink - kSlowShrink) / (kDefaultActiveMaxSpeed - kDefaultActiveMinSpeed);
+    curve.lambda1_coefficients = {1 - kSlowShrink - slope * kDefaultActiveMinSpeed, slope};
+    curve.min_print_speed = kDefaultActiveMinSpeed;
+    curve.max_print_speed = kDefaultActiveMaxSpeed;
+    curve.layer_height = stack.layer_height;
+    out.speed_curve = curve;
+  }
+  // λ1 at the print speed the ratios stand for, so that printed_lambda1 scales from there (a
+  // material's print speed lies in its speed curve's range).
+  if (calibrated) {
+    out.lambda1 = printed_lambda1(pla, stack.layer_height, pla.print_speed);
+  } else {
+    out.print_speed = std::clamp(pla.print_speed, kDefaultActiveMinSpeed, kDefaultActiveMaxSpeed);
+    out.lambda1 = lambda1_at_print_speed(*out.speed_curve, out.print_speed);
+  }
+  out.thickness_curve.reset();
+  out.lambda2 = 1;
+  out.lambda3 = 1;
+  out.delta_lambda1 = std::abs(pla.delta_lambda1);
+  return out;
 }
 
 LayerStack actuator_layer_stack(const Material& pla, const Material& tpu, const HingeStack& stack,

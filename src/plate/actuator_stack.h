@@ -35,6 +35,14 @@ std::pair<double, double> active_speed_range(const Material& pla);
 // guess). Throws UserError(kInfeasible) outside active_speed_range.
 double active_lambda1(const Material& pla, const HingeStack& stack, double speed);
 
+// `pla` as the origami print reads it back from its G-code (gcode/deposited_plate.h): λ2 = λ3 = 1
+// and the gradient rising from the bed side up (|Δλ1|), as actuator_layer_stack lays them; no
+// thickness curve (the hinges print in layers of stack.layer_height: its λ1 there is kept); and
+// without a speed curve, active_lambda1's default as one, linear over [kDefaultActiveMinSpeed,
+// kDefaultActiveMaxSpeed]. So printed_lambda1 of the result at any speed in active_speed_range is
+// active_lambda1 of `pla`, and a G-code judged with it meets the design's own stack.
+Material thermorph_pla(const Material& pla, const HingeStack& stack);
+
 // The layers of `num_faces` faces that are all actuator: materials {pla, tpu} (tools 0 and 1),
 // the PLA layers along `line_direction` (rad: across the hinge) with mean λ1 `lambda1`, the
 // gradient above, and λ2 = λ3 = 1 (Thermorph measures only the shrink along the lines; the

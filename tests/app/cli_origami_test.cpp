@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <set>
 #include <string>
 
 #include "test_support.h"
@@ -73,6 +74,34 @@ TEST(CliOrigami, AOneToolPrinterPausesForTheTpuAndThePrintPassesTheCheck) {
     EXPECT_EQ(each.exit_code, 0) << part << ": " << each.out << each.err;
   }
   EXPECT_FALSE(std::filesystem::exists(dir / "plate-F3.gcode"));
+}
+
+// A solid whose net is larger than the bed is cut into nets that fit, and nets that do not fit one
+// bed together are printed as several jobs: plate.gcode, plate_2.gcode, ..., each safe to print.
+TEST(CliOrigami, SheetsThatDoNotFitOneBedPrintAsSeveralJobs) {
+  const std::filesystem::path dir = testing::scratch_dir() / "icosahedron";
+  const auto r = run_cli({"origami", "--example", "icosahedron", "--size", "130", "--printer",
+                          "prusa-mk4", "--no-slicer", "-o", dir.string()});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::ifstream in(dir / "design.json");
+  const nlohmann::json j = nlohmann::json::parse(in);
+  const int beds = j.at("metrics").at("beds").get<int>();
+  EXPECT_GE(beds, 2);
+  std::set<int> used;
+  for (const nlohmann::json& sheet : j.at("sheets")) {
+    const int bed = sheet.at("bed").get<int>();
+    used.insert(bed);
+    EXPECT_EQ(sheet.at("gcode"),
+              bed == 1 ? "plate.gcode" : "plate_" + std::to_string(bed) + ".gcode");
+  }
+  EXPECT_EQ(static_cast<int>(used.size()), beds);
+  for (int bed = 1; bed <= beds; ++bed) {
+    const std::string name = bed == 1 ? "plate.gcode" : "plate_" + std::to_string(bed) + ".gcode";
+    ASSERT_TRUE(std::filesystem::exists(dir / name)) << name;
+    const auto check = run_cli({"check", (dir / name).string(), "--printer", "prusa-mk4"});
+    EXPECT_EQ(check.exit_code, 0) << name << check.out << check.err;
+  }
+  EXPECT_FALSE(std::filesystem::exists(dir / ("plate_" + std::to_string(beds + 1) + ".gcode")));
 }
 
 TEST(CliOrigami, RefusesMeshesThatCannotFoldAndBadRequestsBeforeAnyWork) {

@@ -165,6 +165,34 @@ TEST(ActuatorStack, APlaWithASpeedCurveShrinksByItsCurve) {
   EXPECT_THROW(active_lambda1(pla, stack, 150), UserError);
 }
 
+// The PLA a G-code of an origami sheet is read back with shrinks, line by line, as the design's
+// stack says: printed_lambda1 at the speed a line was printed at is active_lambda1 there, with
+// and without a speed curve, whatever the layer height the reader measured; λ2 = λ3 = 1 and the
+// bed side shrinks more; and it is a usable material.
+TEST(ActuatorStack, ThePlaTheGcodeIsReadBackWithShrinksAsTheDesignSays) {
+  const HingeStack stack;
+  Material plain = load_material("pla-generic");
+  Material calibrated = plain;
+  calibrated.lambda1 = 0.85;
+  calibrated.print_speed = 40;
+  calibrated.speed_curve = SpeedCurve{{0.95, -0.001}, 20, 120, 0.2, 210};
+  for (const Material& pla : {plain, calibrated}) {
+    const Material printed = thermorph_pla(pla, stack);
+    EXPECT_NO_THROW(parse_material_json(material_json(printed), "the printed PLA")) << pla.name;
+    EXPECT_EQ(printed.lambda2, 1);
+    EXPECT_EQ(printed.lambda3, 1);
+    EXPECT_GT(printed.delta_lambda1, 0);
+    EXPECT_EQ(printed.delta_lambda1, std::abs(pla.delta_lambda1));
+    const auto [lo, hi] = active_speed_range(pla);
+    for (double v = lo; v <= hi; v += (hi - lo) / 7) {
+      for (double h : {0.15, 0.2, 0.3}) {
+        EXPECT_NEAR(printed_lambda1(printed, h, v), active_lambda1(pla, stack, v), 1e-12)
+            << v << " mm/s, " << h << " mm";
+      }
+    }
+  }
+}
+
 // The default curve is the laminate's, speed by speed (its polynomial is a fit through 17
 // speeds: checked here between them), not calibrated, usable, and increasing with the speed as
 // Fig. 6 reports; its inverse gives the speed back.

@@ -19,6 +19,9 @@
 namespace flatmorph {
 namespace {
 
+// Between two beds laid side by side in plate coordinates, mm.
+constexpr double kBedSpacing = 20;
+
 double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
@@ -83,9 +86,58 @@ OrigamiSheet prepared_sheet(CreasePattern pattern, const HingeCurve& curve,
   return sheet;
 }
 
+// When the printed sheet does not fit the room (x, y mm), the face whose hinge to its parent
+// cuts it into the two parts that come nearest to fitting (the larger room_overfill of the two
+// the smallest); −1 when it fits. Last resort of the retree: the solid then prints as more nets.
+int bed_splitting_face(const CreasePattern& pattern, const ActuatedSheet& sheet,
+                       const Eigen::Vector2d& room) {
+  if (room_overfill(sheet_points(sheet), room) <= 1) return -1;
+  const int num_faces = pattern.num_faces();
+  int best = -1;
+  double best_overfill = INFINITY;
+  for (int child = 0; child < num_faces; ++child) {
+    if (child == pattern.root) continue;
+    std::vector<bool> below(num_faces, false);  // the child's subtree
+    for (int f = 0; f < num_faces; ++f) {
+      for (int g = f; g != pattern.root;) {
+        if (g == child) {
+          below[f] = true;
+          break;
+        }
+        const Crease& crease = pattern.creases[pattern.parent_crease[g]];
+        g = crease.left == g ? crease.right : crease.left;
+      }
+    }
+    std::vector<Eigen::Vector2d> parts[2];
+    for (int f = 0; f < num_faces; ++f) {
+      for (Eigen::Index k = 0; k < sheet.faces[f].rows(); ++k) {
+        parts[below[f]].push_back(sheet.faces[f].row(k).transpose());
+      }
+    }
+    for (const Actuator& actuator : sheet.actuators) {
+      if (actuator.child_face == child) continue;  // the cut strip goes
+      for (int k = 0; k < 4; ++k) {
+        parts[below[actuator.child_face]].push_back(actuator.quad.row(k).transpose());
+      }
+    }
+    double overfill = 0;
+    for (const std::vector<Eigen::Vector2d>& part : parts) {
+      Eigen::MatrixX2d points(part.size(), 2);
+      for (size_t i = 0; i < part.size(); ++i) points.row(i) = part[i].transpose();
+      overfill = std::max(overfill, room_overfill(points, room));
+    }
+    if (overfill < best_overfill) {
+      best_overfill = overfill;
+      best = child;
+    }
+  }
+  return best;
+}
+
 // The solid's edges (polyhedron_edges) of the hinges that keep this net from printing: per face
 // its trims eat, the hinge of that face with the largest cut; per pair of pieces that overlap
-// once the actuators are in, the hinge to the parent of each. Empty when the net prints.
+// once the actuators are in, the hinge to the parent of each; for a sheet larger than the room,
+// the hinge that splits it best (bed_splitting_face). Empty when the net prints.
 std::vector<int> unprintable_hinges(const OrigamiSheet& sheet, const Unfolding& unfolding,
                                     const OrigamiOptions& options) {
   const CreasePattern& pattern = sheet.pattern;
@@ -119,6 +171,9 @@ std::vector<int> unprintable_hinges(const OrigamiSheet& sheet, const Unfolding& 
       if (f != pattern.root) edges.push_back(solid_edge_to_parent(f));
     }
   }
+  if (!edges.empty()) return edges;
+  const int split = bed_splitting_face(pattern, actuated, options.room);
+  if (split >= 0) edges.push_back(solid_edge_to_parent(split));
   return edges;
 }
 
@@ -141,7 +196,7 @@ void make_sheets(std::vector<OrigamiSheet> prepared, const OrigamiOptions& optio
                       piece_name(sheet.sheet, overlaps[0].second)));
     }
     // Turned so that its smallest bounding rectangle lies along the axes, then placed below.
-    const double angle = min_area_rectangle_angle(sheet_points(sheet.sheet));
+    const double angle = turn_to_room(sheet_points(sheet.sheet), options.room);
     place_sheet(angle, Eigen::Vector2d::Zero(), sheet.pattern, sheet.sheet);
     const Eigen::MatrixX2d points = sheet_points(sheet.sheet);
     boxes.emplace_back(points.colwise().minCoeff().transpose(),
@@ -149,10 +204,15 @@ void make_sheets(std::vector<OrigamiSheet> prepared, const OrigamiOptions& optio
     names.push_back(sheet.pattern.name);
     design.sheets.push_back(std::move(sheet));
   }
-  const std::vector<Eigen::Vector2d> corners =
-      pack_in_rows(boxes, names, options.room, options.sheet_gap);
+  // The beds lie side by side in plate coordinates (flat.ply shows them all); each bed's G-code
+  // is placed on the printer on its own.
+  const BedPlacement placement = pack_on_beds(boxes, names, options.room, options.sheet_gap);
+  design.num_beds = placement.num_beds;
   for (size_t i = 0; i < design.sheets.size(); ++i) {
-    place_sheet(0, corners[i] - boxes[i].min(), design.sheets[i].pattern, design.sheets[i].sheet);
+    OrigamiSheet& sheet = design.sheets[i];
+    sheet.bed = placement.bed[i];
+    const Eigen::Vector2d bed_origin(sheet.bed * (options.room.x() + kBedSpacing), 0);
+    place_sheet(0, bed_origin + placement.corner[i] - boxes[i].min(), sheet.pattern, sheet.sheet);
   }
   design.times.actuate = seconds_since(start);
 
@@ -181,28 +241,32 @@ void make_sheets(std::vector<OrigamiSheet> prepared, const OrigamiOptions& optio
 
   const auto toolpath_start = std::chrono::steady_clock::now();
   report_progress(options.progress, {"toolpath", 0, 0, NAN, "faces in PLA, actuators in PLA/TPU"});
+  design.bed_toolpaths.assign(design.num_beds, Toolpath{});
   for (const OrigamiSheet& sheet : design.sheets) {
     const Toolpath part = origami_toolpath(sheet.sheet, options.print);
-    if (design.toolpath.layers.empty()) {
-      design.toolpath = part;
+    Toolpath& toolpath = design.bed_toolpaths[sheet.bed];
+    if (toolpath.layers.empty()) {
+      toolpath = part;
       continue;
     }
     for (size_t k = 0; k < part.layers.size(); ++k) {
-      std::vector<PathPolyline>& paths = design.toolpath.layers[k].paths;
+      std::vector<PathPolyline>& paths = toolpath.layers[k].paths;
       paths.insert(paths.end(), part.layers[k].paths.begin(), part.layers[k].paths.end());
     }
   }
   // Every sheet's layer prints one material, then the other (notes §8): each layer first takes
   // the tool the layer below ended with, so that the sheets together change no more often than
   // one does.
-  int last_tool = -1;
-  for (ToolpathLayer& layer : design.toolpath.layers) {
-    if (layer.paths.empty()) continue;
-    const int first = last_tool >= 0 ? last_tool : layer.paths.front().segments.front().tool;
-    std::stable_partition(layer.paths.begin(), layer.paths.end(), [&](const PathPolyline& path) {
-      return path.segments.front().tool == first;
-    });
-    last_tool = layer.paths.back().segments.front().tool;
+  for (Toolpath& toolpath : design.bed_toolpaths) {
+    int last_tool = -1;
+    for (ToolpathLayer& layer : toolpath.layers) {
+      if (layer.paths.empty()) continue;
+      const int first = last_tool >= 0 ? last_tool : layer.paths.front().segments.front().tool;
+      std::stable_partition(layer.paths.begin(), layer.paths.end(), [&](const PathPolyline& path) {
+        return path.segments.front().tool == first;
+      });
+      last_tool = layer.paths.back().segments.front().tool;
+    }
   }
   design.times.toolpath = seconds_since(toolpath_start);
 }
@@ -215,7 +279,7 @@ LayerStack printed_sheet_stack(const std::vector<OrigamiSheet>& sheets,
   const HingeStack& stack = options.print.stack;
   const int num_faces = static_cast<int>(piece.size());
   LayerStack out;
-  out.materials = {options.pla, options.tpu};
+  out.materials = {thermorph_pla(options.pla, stack), options.tpu};
   // The faces shrink by the same rule as the active PLA (active_lambda1 at their slower speed,
   // the bed side more), their directions crossed as the toolpath lays them.
   const auto [slowest, fastest] = active_speed_range(options.pla);

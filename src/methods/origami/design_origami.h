@@ -56,6 +56,7 @@ struct OrigamiOptions {
 struct OrigamiSheet {
   CreasePattern pattern;            // placed on the bed (plate coordinates), the side printed up
   bool turned_over = false;         // printed with the solid's inward side up (mostly valleys)
+  int bed = 0;                      // the print job it goes on, from 0
   std::vector<HingeDesign> hinges;  // one per hinge of the pattern
   ActuatedSheet sheet;
   FoldedSheet folded;                            // the curved model at full fold
@@ -70,7 +71,10 @@ struct OrigamiDesign {
   std::optional<Unfolding> unfolding;
   HingeCurve curve;
   std::vector<OrigamiSheet> sheets;
-  Toolpath toolpath;  // every sheet, plate coordinates
+  // The sheets go on num_beds beds (print jobs, when they do not fit one), laid side by side in
+  // plate coordinates; per bed, its sheets' toolpath.
+  int num_beds = 1;
+  std::vector<Toolpath> bed_toolpaths;
   // The inverse flow's checks (notes §11), in % of the solid's diagonal: the nets folded sharply
   // against the solid's corners after the best rigid motion, and the curved model's face corners
   // off their faces' planes in that same frame.
@@ -85,7 +89,7 @@ struct OrigamiDesign {
 
 // The solid folded from nets (Steps 2-4). Throws unfold's, actuate's and the hinge curve's
 // UserErrors (a fold no speed in the curve's range reaches, a face too narrow for its trims) and
-// pack_in_rows' (sheets larger than options.room).
+// pack_on_beds' (a sheet larger than options.room).
 OrigamiDesign design_origami(const Polyhedron& solid, const OrigamiOptions& options);
 
 // A drawn crease pattern (the forward flow, Fig. 12 "2D pattern"): the same actuators, layout,

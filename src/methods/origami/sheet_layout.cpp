@@ -35,6 +35,32 @@ double min_area_rectangle_angle(const Eigen::MatrixX2d& points) {
   return std::remainder(best_angle, 2 * std::numbers::pi);
 }
 
+namespace {
+
+// The size of the points' bounding box once turned by `angle`.
+Eigen::Vector2d turned_size(const Eigen::MatrixX2d& points, double angle) {
+  const Eigen::MatrixX2d turned = points * rotation(angle).transpose();
+  return turned.colwise().maxCoeff() - turned.colwise().minCoeff();
+}
+
+double overfill(const Eigen::Vector2d& size, const Eigen::Vector2d& room) {
+  return std::max(size.x() / room.x(), size.y() / room.y());
+}
+
+}  // namespace
+
+double turn_to_room(const Eigen::MatrixX2d& points, const Eigen::Vector2d& room) {
+  const double angle = min_area_rectangle_angle(points);
+  const Eigen::Vector2d size = turned_size(points, angle);
+  return overfill(size, room) > 1 && overfill(size.reverse(), room) <= 1
+             ? angle + std::numbers::pi / 2
+             : angle;
+}
+
+double room_overfill(const Eigen::MatrixX2d& points, const Eigen::Vector2d& room) {
+  return overfill(turned_size(points, turn_to_room(points, room)), room);
+}
+
 Eigen::MatrixX2d sheet_points(const ActuatedSheet& sheet) {
   Eigen::Index n = 4 * static_cast<Eigen::Index>(sheet.actuators.size());
   for (const Eigen::MatrixX2d& face : sheet.faces) n += face.rows();
@@ -65,42 +91,51 @@ void place_sheet(double angle, const Eigen::Vector2d& offset, CreasePattern& pat
   }
 }
 
-std::vector<Eigen::Vector2d> pack_in_rows(const std::vector<Eigen::AlignedBox2d>& boxes,
-                                          const std::vector<std::string>& names,
-                                          const Eigen::Vector2d& room, double gap) {
+BedPlacement pack_on_beds(const std::vector<Eigen::AlignedBox2d>& boxes,
+                          const std::vector<std::string>& names, const Eigen::Vector2d& room,
+                          double gap) {
+  std::string too_large;
+  for (size_t i = 0; i < boxes.size(); ++i) {
+    const Eigen::Vector2d size = boxes[i].sizes();
+    if (size.x() > room.x() || size.y() > room.y()) {
+      too_large += fmt::format("{}{} {:.0f} x {:.0f} mm", too_large.empty() ? "" : ", ", names[i],
+                               size.x(), size.y());
+    }
+  }
+  if (!too_large.empty()) {
+    throw UserError(ErrorCategory::kInfeasible,
+                    fmt::format("the printed sheet ({}) does not fit the {:.0f} x {:.0f} mm the "
+                                "bed has to print on: make the solid smaller (--size) or choose "
+                                "a larger printer",
+                                too_large, room.x(), room.y()));
+  }
   std::vector<int> order(boxes.size());
   std::iota(order.begin(), order.end(), 0);
   std::stable_sort(order.begin(), order.end(),
                    [&](int a, int b) { return boxes[a].sizes().y() > boxes[b].sizes().y(); });
-  std::vector<Eigen::Vector2d> offsets(boxes.size());
+  BedPlacement out;
+  out.bed.resize(boxes.size());
+  out.corner.resize(boxes.size());
   Eigen::Vector2d cursor(0, 0);
-  double row_height = 0, used_width = 0;
+  double row_height = 0;
+  int bed = 0;
   for (int i : order) {
     const Eigen::Vector2d size = boxes[i].sizes();
     if (cursor.x() > 0 && cursor.x() + size.x() > room.x()) {  // next row
       cursor = {0, cursor.y() + row_height + gap};
       row_height = 0;
     }
-    offsets[i] = cursor;
-    used_width = std::max(used_width, cursor.x() + size.x());
+    if (cursor.y() > 0 && cursor.y() + size.y() > room.y()) {  // next bed
+      cursor = {0, 0};
+      ++bed;
+    }
+    out.bed[i] = bed;
+    out.corner[i] = cursor;
     row_height = std::max(row_height, size.y());
     cursor.x() += size.x() + gap;
   }
-  const Eigen::Vector2d used(used_width, cursor.y() + row_height);
-  if (used.x() > room.x() || used.y() > room.y()) {
-    std::string list;
-    for (size_t i = 0; i < boxes.size(); ++i) {
-      list += fmt::format("{}{} {:.0f} x {:.0f} mm", i ? ", " : "", names[i], boxes[i].sizes().x(),
-                          boxes[i].sizes().y());
-    }
-    throw UserError(ErrorCategory::kInfeasible,
-                    fmt::format("the printed sheet{} ({}) need{} {:.0f} x {:.0f} mm but the bed "
-                                "has {:.0f} x {:.0f} mm to print on: make the solid smaller "
-                                "(--size) or choose a larger printer",
-                                boxes.size() > 1 ? "s" : "", list, boxes.size() > 1 ? "" : "s",
-                                used.x(), used.y(), room.x(), room.y()));
-  }
-  return offsets;
+  out.num_beds = boxes.empty() ? 0 : bed + 1;
+  return out;
 }
 
 }  // namespace flatmorph

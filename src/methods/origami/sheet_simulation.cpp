@@ -31,6 +31,35 @@ Eigen::Vector3d on_strip(const Actuator& actuator, const ActuatorStrip& strip,
 
 }  // namespace
 
+std::vector<double> hinge_fold_angles(const ActuatedSheet& sheet, const Eigen::MatrixXd& flat,
+                                      const Eigen::MatrixXi& F, const Eigen::VectorXi& piece,
+                                      const Eigen::MatrixXd& V) {
+  // The triangles within kBand of the actuator's ends: the actuator's own bend, apart from how
+  // the faces themselves warp.
+  constexpr double kBand = 3;  // mm
+  std::vector<double> angles;
+  for (const Actuator& actuator : sheet.actuators) {
+    Eigen::Vector3d side_normal[2] = {Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
+    for (Eigen::Index t = 0; t < F.rows(); ++t) {
+      const int f = piece(t);
+      const int side = f == actuator.parent_face ? 0 : f == actuator.child_face ? 1 : -1;
+      if (side < 0) continue;
+      const Eigen::Vector2d centroid =
+          (flat.row(F(t, 0)) + flat.row(F(t, 1)) + flat.row(F(t, 2))).leftCols<2>().transpose() / 3;
+      const Eigen::Vector2d end = actuator.quad.row(side == 0 ? 0 : 3).transpose();
+      if (std::abs((centroid - end).dot(actuator.across)) > kBand) continue;
+      const Eigen::Vector3d a = V.row(F(t, 0)).transpose();
+      const Eigen::Vector3d b = V.row(F(t, 1)).transpose();
+      const Eigen::Vector3d c = V.row(F(t, 2)).transpose();
+      side_normal[side] += (b - a).cross(c - a);
+    }
+    const double cosine =
+        std::clamp(side_normal[0].normalized().dot(side_normal[1].normalized()), -1.0, 1.0);
+    angles.push_back(std::copysign(std::acos(cosine), actuator.hinge.fold_angle));
+  }
+  return angles;
+}
+
 SheetSimulation simulate_sheet(const OrigamiDesign& design, int index,
                                const OrigamiOptions& options, double max_edge) {
   const OrigamiSheet& sheet = design.sheets.at(index);
@@ -91,30 +120,7 @@ SheetSimulation simulate_sheet(const OrigamiDesign& design, int index,
   out.result = simulate(problem, out.designed);
   out.to_design = shape_distance(rigidly_aligned(out.result.V, out.designed), out.designed);
 
-  // Each hinge's angle between its two faces where they meet the actuator (their triangles within
-  // kBand of its ends): the actuator's own bend, apart from how the faces themselves warp.
-  constexpr double kBand = 3;  // mm
-  for (const Actuator& actuator : printed.actuators) {
-    Eigen::Vector3d side_normal[2] = {Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
-    for (Eigen::Index t = 0; t < mesh.F.rows(); ++t) {
-      const int f = mesh.face_region(t);
-      const int side = f == actuator.parent_face ? 0 : f == actuator.child_face ? 1 : -1;
-      if (side < 0) continue;
-      const Eigen::Vector2d centroid =
-          (mesh.V.row(mesh.F(t, 0)) + mesh.V.row(mesh.F(t, 1)) + mesh.V.row(mesh.F(t, 2)))
-              .transpose() /
-          3;
-      const Eigen::Vector2d end = actuator.quad.row(side == 0 ? 0 : 3).transpose();
-      if (std::abs((centroid - end).dot(actuator.across)) > kBand) continue;
-      const Eigen::Vector3d a = out.result.V.row(mesh.F(t, 0)).transpose();
-      const Eigen::Vector3d b = out.result.V.row(mesh.F(t, 1)).transpose();
-      const Eigen::Vector3d c = out.result.V.row(mesh.F(t, 2)).transpose();
-      side_normal[side] += (b - a).cross(c - a);
-    }
-    const double cosine =
-        std::clamp(side_normal[0].normalized().dot(side_normal[1].normalized()), -1.0, 1.0);
-    out.fold_angle.push_back(std::copysign(std::acos(cosine), actuator.hinge.fold_angle));
-  }
+  out.fold_angle = hinge_fold_angles(printed, mesh.V, mesh.F, mesh.face_region, out.result.V);
   return out;
 }
 

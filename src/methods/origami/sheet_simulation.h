@@ -27,6 +27,14 @@ struct SheetSimulation {
   std::vector<double> fold_angle;
 };
 
+// Per actuator of `sheet`, the angle (rad, signed as the design's) its two faces make in the shape
+// V (#V x 3 mm) of a mesh of the sheet (flat: #V x 2 or 3 plate coordinates; F; piece: per
+// triangle its face, then the actuators, from 0): between the faces' mean normals within 3 mm of
+// the actuator's ends. For a shape simulated from the design's layers or from its G-code alike.
+std::vector<double> hinge_fold_angles(const ActuatedSheet& sheet, const Eigen::MatrixXd& flat,
+                                      const Eigen::MatrixXi& F, const Eigen::VectorXi& piece,
+                                      const Eigen::MatrixXd& V);
+
 // Sheet `index` of `design` simulated, its mesh no coarser than `max_edge` mm (three or more
 // triangles across the narrowest actuator). Throws the simulator's and the mesher's UserErrors.
 SheetSimulation simulate_sheet(const OrigamiDesign& design, int index,

@@ -46,7 +46,9 @@ TEST_P(DesignOrigamiSolid, FoldsBackOntoTheSolidWithoutCollisions) {
   EXPECT_GE(points.minCoeff(), -1e-9);
   EXPECT_LE(points.col(0).maxCoeff(), 300);
   EXPECT_LE(points.col(1).maxCoeff(), 300);
-  EXPECT_FALSE(design.toolpath.layers.empty());
+  EXPECT_EQ(design.num_beds, 1);
+  ASSERT_EQ(design.bed_toolpaths.size(), 1u);
+  EXPECT_FALSE(design.bed_toolpaths[0].layers.empty());
 }
 
 INSTANTIATE_TEST_SUITE_P(Examples, DesignOrigamiSolid,
@@ -61,9 +63,7 @@ INSTANTIATE_TEST_SUITE_P(Examples, DesignOrigamiSolid,
 // (0.5 % of a face's diameter) and collides nowhere.
 TEST(DesignOrigami, TheLowPolyBunnyUnfoldsIntoNetsThatPrintAndFoldBack) {
   OrigamiOptions options = default_options();
-  // Room to spare: whether the nets also fit the default printer's 340 mm depends on rounding
-  // (344 mm under clang); fitting the bed is not re-treed yet (docs/origami.md).
-  options.room = {400, 400};
+  options.room = {340, 340};  // the default printer's bed less its margins
   const Polyhedron bunny = origami_example("bunny", 70);
   ASSERT_LE(bunny.faces.size(), 70u);
   const OrigamiDesign design = design_origami(bunny, options);
@@ -76,6 +76,7 @@ TEST(DesignOrigami, TheLowPolyBunnyUnfoldsIntoNetsThatPrintAndFoldBack) {
     hinges += sheet.hinges.size();
     EXPECT_FALSE(sheet.collision) << sheet.pattern.name;
     EXPECT_TRUE(sheet_overlaps(sheet.sheet).empty()) << sheet.pattern.name;
+    EXPECT_LE(room_overfill(sheet_points(sheet.sheet), options.room), 1) << sheet.pattern.name;
   }
   EXPECT_EQ(faces, bunny.faces.size());
   EXPECT_GE(hinges, 0.75 * (bunny.faces.size() - 1));
@@ -103,6 +104,58 @@ TEST(DesignOrigami, AMostlyConcaveSheetIsPrintedTurnedOverSoThatItsFoldsAreMount
   for (const HingeDesign& hinge : design.sheets[0].hinges) EXPECT_TRUE(hinge.pla_on_bed);
   EXPECT_LT(design.sharp_error_pct, 0.1);
   EXPECT_LT(design.curved_plane_error_pct, 1e-4);
+}
+
+// A net larger than the bed is cut in two at the hinge that leaves both parts nearest to fitting
+// (the retree's last resort), and the two still fold back onto the solid.
+TEST(DesignOrigami, ANetLargerThanTheBedIsCutIntoNetsThatFit) {
+  const Polyhedron solid = polyhedron_example("icosahedron", 35);
+  OrigamiOptions options = default_options();
+  const OrigamiDesign whole = design_origami(solid, options);
+  ASSERT_EQ(whole.sheets.size(), 1u);
+  const Eigen::MatrixX2d points = sheet_points(whole.sheets[0].sheet);
+  const Eigen::Vector2d size = points.colwise().maxCoeff() - points.colwise().minCoeff();
+  // A square room the net's longer side does not fit, but wide enough for its shorter one.
+  options.room = Eigen::Vector2d::Constant(0.8 * size.x());
+  ASSERT_GT(room_overfill(points, options.room), 1);
+  const OrigamiDesign cut = design_origami(solid, options);
+  EXPECT_GE(cut.sheets.size(), 2u);
+  // Together they do not fit one bed: each bed is a print of its own, its sheets on it.
+  EXPECT_EQ(static_cast<int>(cut.bed_toolpaths.size()), cut.num_beds);
+  EXPECT_GE(cut.num_beds, 2);
+  for (int bed = 0; bed < cut.num_beds; ++bed) {
+    Eigen::AlignedBox2d sheets_box, print_box;
+    for (const OrigamiSheet& sheet : cut.sheets) {
+      if (sheet.bed != bed) continue;
+      const Eigen::MatrixX2d corners = sheet_points(sheet.sheet);
+      for (Eigen::Index k = 0; k < corners.rows(); ++k)
+        sheets_box.extend(corners.row(k).transpose());
+    }
+    for (const ToolpathLayer& layer : cut.bed_toolpaths[bed].layers) {
+      for (const PathPolyline& path : layer.paths) {
+        for (Eigen::Index k = 0; k < path.points.rows(); ++k) {
+          print_box.extend(path.points.row(k).transpose().head<2>());
+        }
+      }
+    }
+    EXPECT_FALSE(sheets_box.isEmpty()) << bed;
+    EXPECT_LE(sheets_box.sizes().maxCoeff(), options.room.maxCoeff() + 1e-9) << bed;
+    // The print stays on its own bed's sheets (1 mm bonding lines may reach past a face's edge).
+    EXPECT_TRUE((print_box.min().array() >= sheets_box.min().array() - 1.5).all()) << bed;
+    EXPECT_TRUE((print_box.max().array() <= sheets_box.max().array() + 1.5).all()) << bed;
+  }
+  size_t faces = 0, hinges = 0;
+  for (const OrigamiSheet& sheet : cut.sheets) {
+    faces += sheet.pattern.num_faces();
+    hinges += sheet.hinges.size();
+    EXPECT_LE(room_overfill(sheet_points(sheet.sheet), options.room), 1) << sheet.pattern.name;
+    EXPECT_TRUE(sheet_overlaps(sheet.sheet).empty()) << sheet.pattern.name;
+    EXPECT_FALSE(sheet.collision) << sheet.pattern.name;
+  }
+  EXPECT_EQ(faces, solid.faces.size());
+  EXPECT_GE(hinges, 0.75 * (solid.faces.size() - 1));
+  EXPECT_LT(cut.sharp_error_pct, 0.1);
+  EXPECT_LT(cut.curved_plane_error_pct, 1e-4);
 }
 
 TEST(DesignOrigami, ASheetLargerThanTheBedIsRefusedWithTheRoomItNeeds) {

@@ -6,28 +6,43 @@
 // from warping (face_lines_along_y).
 #include "methods/origami/sheet_simulation.h"
 
+#include <fmt/core.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <numbers>
 #include <string>
 
+#include "gcode/printer_profile.h"
 #include "material/material.h"
 #include "methods/origami/crease_pattern_svg.h"
+#include "plate/actuator_stack.h"
+#include "run/gcode_prediction.h"
+#include "run/print_plan.h"
 
 namespace flatmorph {
 namespace {
 
-TEST(SheetSimulation, TwoFacesAndAMountainSettleAtTheAngleTheHingeCurvePromises) {
+OrigamiOptions sheet_options() {
   OrigamiOptions options;
   options.pla = load_material("pla-generic");
   options.tpu = load_material("tpu-generic");
-  const std::string svg =
+  return options;
+}
+
+// Two 30 mm faces joined by one hinge folding by `degrees` (negative: a mountain).
+OrigamiDesign two_faces(double degrees, const OrigamiOptions& options) {
+  const std::string svg = fmt::format(
       "<svg xmlns='http://www.w3.org/2000/svg' width='60mm' height='30mm' viewBox='0 0 60 30'>"
       "<polygon points='0,0 60,0 60,30 0,30' stroke='#000000' fill='none'/>"
-      "<line x1='30' y1='0' x2='30' y2='30' stroke='#ff0000' data-fold-angle='-90'/></svg>";
-  const OrigamiDesign design =
-      design_origami_pattern(read_crease_pattern_svg(svg, "two faces"), options);
+      "<line x1='30' y1='0' x2='30' y2='30' stroke='#ff0000' data-fold-angle='{}'/></svg>",
+      degrees);
+  return design_origami_pattern(read_crease_pattern_svg(svg, "two faces"), options);
+}
+
+TEST(SheetSimulation, TwoFacesAndAMountainSettleAtTheAngleTheHingeCurvePromises) {
+  const OrigamiOptions options = sheet_options();
+  const OrigamiDesign design = two_faces(-90, options);
   const SheetSimulation simulated = simulate_sheet(design, 0, options, 2.0);
   ASSERT_TRUE(simulated.result.converged) << simulated.result.warning;
   ASSERT_EQ(simulated.fold_angle.size(), 1u);
@@ -40,6 +55,56 @@ TEST(SheetSimulation, TwoFacesAndAMountainSettleAtTheAngleTheHingeCurvePromises)
   for (Eigen::Index t = 0; t < simulated.piece.size(); ++t) {
     EXPECT_EQ(stack.layers.back().material(t), simulated.piece(t) < 2 ? 0 : 1) << t;
   }
+}
+
+// The same hinge judged from what its G-code deposits (run/gcode_prediction.h): the file written
+// for a two-tool printer, read back, rasterized onto the sheet's mesh (PLA from T0, TPU from T1)
+// and simulated, bends as the curve promises within 5°.
+TEST(SheetSimulation, TheHingeReadBackFromItsGcodeBendsAsTheCurvePromises) {
+  const OrigamiOptions options = sheet_options();
+  const OrigamiDesign design = two_faces(-90, options);
+  const SheetSimulation simulated = simulate_sheet(design, 0, options, 2.0);
+  const OrigamiPlate plate = origami_plate(design, options);
+  const PrinterProfile printer = load_printer("prusa-xl-2t");
+  const PrintPlan plan =
+      plan_toolpath_print(traced_layer_paths(design.bed_toolpaths[0]), plate.plate.plate,
+                          plate.plate.F, {options.pla, options.tpu}, printer, {});
+  GcodePredictionOptions predict;
+  predict.plate_V = simulated.plate.plate;
+  predict.plate_F = simulated.plate.F;
+  predict.start = simulated.designed;
+  // The PLA as the design models it: λ2 = λ3 = 1, λ1 from the speed each line was printed at.
+  const GcodePrediction printed =
+      predict_from_gcode(plan.gcode.text, "plate.gcode",
+                         {thermorph_pla(options.pla, options.print.stack), options.tpu}, predict);
+  ASSERT_TRUE(printed.result.converged) << printed.result.warning;
+  EXPECT_TRUE(printed.placed_by_header);
+  EXPECT_EQ(printed.plate.removed_faces, 0);
+  // The actuator's top layer came from T1 (TPU), and TPU lies nowhere else than on it and its
+  // 1 mm bonding margins (a line width more for the triangles the margin's edge crosses).
+  const Eigen::VectorXi& kept = printed.plate.kept_faces;
+  const Eigen::VectorXi piece = simulated.piece(kept);
+  const Actuator& actuator = design.sheets[0].sheet.actuators[0];
+  const Eigen::MatrixXd& V = printed.plate.design.plate;
+  const Eigen::MatrixXi& F = printed.plate.design.F;
+  for (Eigen::Index t = 0; t < piece.size(); ++t) {
+    const int tool = printed.plate.layers.back().tool(t);
+    if (piece(t) == 2) {
+      EXPECT_EQ(tool, 1) << t;
+    }
+    if (tool != 1) continue;
+    const Eigen::Vector2d centroid =
+        (V.row(F(t, 0)) + V.row(F(t, 1)) + V.row(F(t, 2))).leftCols<2>().transpose() / 3;
+    const double across = (centroid - actuator.quad.row(0).transpose()).dot(actuator.across);
+    EXPECT_GT(across, -1.5 - options.print.line_width) << t;
+    EXPECT_LT(across, actuator.hinge.width + 1.5 + options.print.line_width) << t;
+  }
+  const std::vector<double> angle =
+      hinge_fold_angles(design.sheets[0].sheet, printed.plate.design.plate, printed.plate.design.F,
+                        piece, printed.result.V);
+  ASSERT_EQ(angle.size(), 1u);
+  EXPECT_NEAR(angle[0], design.sheets[0].hinges[0].fold_angle, 5 * std::numbers::pi / 180)
+      << angle[0] * 180 / std::numbers::pi;
 }
 
 }  // namespace
