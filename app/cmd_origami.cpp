@@ -340,6 +340,12 @@ int run_origami(const OrigamiCliOptions& o, const GlobalOptions& global) {
   j["flat_angle_deg"] = o.flat_angle_deg;
   j["hinge_curve"] = design.curve.calibrated ? "calibrated" : "uncalibrated default";
   j["sheets"] = sheets;
+  // The report shows the printed nets (report/run_folder.h).
+  nlohmann::ordered_json drawings = nlohmann::ordered_json::array();
+  for (const RunFile& file : files) {
+    if (file.name.starts_with("net")) drawings.push_back(file.name);
+  }
+  j["drawings"] = drawings;
   if (!notes.empty()) j["notes"] = notes;
 
   nlohmann::ordered_json m;

@@ -191,6 +191,12 @@ int run_tiles(const TilesCliOptions& o, const GlobalOptions& global) {
   j["material"] = material.name;
   j["printer"] = printer.name;
   j["tiles"] = tiles;
+  // The report shows the profiles (report/run_folder.h).
+  nlohmann::ordered_json drawings = nlohmann::ordered_json::array();
+  for (const RunFile& file : files) {
+    if (file.name.starts_with("profile_")) drawings.push_back(file.name);
+  }
+  if (!drawings.empty()) j["drawings"] = drawings;
   if (!design.warnings.empty()) j["warnings"] = design.warnings;
 
   nlohmann::ordered_json m;

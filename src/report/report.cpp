@@ -373,6 +373,11 @@ std::string report_html(const RunFolder& run) {
   if (run.print) data["toolpath"] = layers_json(run.print->toolpath);
   data["metrics"] = metrics_json(run);
   data["missing"] = run.missing;
+  Json drawings = Json::array();
+  for (const auto& [name, svg] : run.drawings) {
+    drawings.push_back({{"name", name}, {"svg", base64(svg.data(), svg.size())}});
+  }
+  if (!drawings.empty()) data["drawings"] = std::move(drawings);
 
   // Inside <script>, "</script" or "<!--" in a string would end or confuse the element: '<' only
   // occurs in JSON strings, where \u003c reads back the same.

@@ -3,6 +3,7 @@
 #include <fmt/core.h>
 
 #include <fstream>
+#include <iterator>
 
 #include "common/error.h"
 
@@ -48,7 +49,23 @@ RunFolder read_run_folder(const std::filesystem::path& dir) {
     }
   }
   if (exists("toolpath.json")) run.print = read_toolpath_file(dir / "toolpath.json");
-  if (run.missing.size() == 5) {
+  // Only plain .svg names of this folder: a design.json edited to point elsewhere reads nothing.
+  if (const auto it = run.design.is_object() ? run.design.find("drawings") : run.design.end();
+      it != run.design.end() && it->is_array()) {
+    for (const auto& entry : *it) {
+      if (!entry.is_string()) continue;
+      const std::string name = entry.get<std::string>();
+      const std::filesystem::path path(name);
+      if (path.filename() != path || path.extension() != ".svg") continue;
+      std::ifstream in(dir / path, std::ios::binary);
+      if (!in) {
+        run.missing.push_back(name);
+        continue;
+      }
+      run.drawings.emplace_back(name, std::string(std::istreambuf_iterator<char>(in), {}));
+    }
+  }
+  if (!run.design.is_object() && run.missing.size() == 5) {
     throw UserError(ErrorCategory::kFile,
                     fmt::format("{}: no flat.ply, target.ply, simulated.ply, design.json or "
                                 "toolpath.json here; give the output folder (-o DIR) of flatmorph "

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "mesh/io.h"
@@ -28,10 +29,14 @@ struct RunFolder {
   std::optional<MeshFile> gcode_simulated;
   nlohmann::ordered_json design;      // design.json (null when absent)
   std::optional<ToolpathFile> print;  // toolpath.json: what plate.gcode prints, as data
-  std::vector<std::string> missing;   // the file names that were not there
+  // The method's own drawings that design.json lists under "drawings" (file names of SVG files in
+  // the folder: origami's net.svg, the tiles' profiles): each name and its text.
+  std::vector<std::pair<std::string, std::string>> drawings;
+  std::vector<std::string> missing;  // the file names that were not there
 };
 
-// Reads DIR/flat.ply, target.ply, simulated.ply, design.json and toolpath.json, whichever exist.
+// Reads DIR/flat.ply, target.ply, simulated.ply, design.json and toolpath.json, whichever exist,
+// and the drawings design.json lists (a listed drawing that is not there is named in `missing`).
 // Throws UserError(kFile) when DIR is not a folder or holds none of them, and the readers' errors
 // (naming the file) when one is malformed.
 RunFolder read_run_folder(const std::filesystem::path& dir);

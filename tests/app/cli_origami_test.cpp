@@ -31,6 +31,8 @@ TEST(CliOrigami, TheCubeWritesTheRunFolderAndAGcodeThatPassesTheCheck) {
   const nlohmann::json j = nlohmann::json::parse(in);
   EXPECT_EQ(j.at("method"), "origami");
   EXPECT_EQ(j.at("hinge_curve"), "uncalibrated default");
+  EXPECT_EQ(j.at("drawings"), nlohmann::json::array({"net.svg"}));  // shown in the report
+  EXPECT_NE(testing::read_file(dir / "report.html").find("net.svg"), std::string::npos);
   const nlohmann::json& m = j.at("metrics");
   EXPECT_EQ(m.at("hinges").get<int>(), 5);
   EXPECT_LT(m.at("sharp_fold_error_pct").get<double>(), 0.1);

@@ -3,6 +3,7 @@
 // report_browser_test.mjs.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
 #include <fstream>
 #include <sstream>
@@ -103,6 +104,28 @@ TEST(ReportRunFolder, AFolderWithoutRunFilesIsAUserError) {
   const auto r = run_cli({"report", (dir / "absent").string()});
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_FALSE(std::filesystem::exists(dir / "absent" / "report.html"));
+}
+
+// The drawings design.json lists are read from the folder and go into the page; names that point
+// out of the folder or are not SVG are not read, and a listed drawing that is not there is missing.
+TEST(ReportRunFolder, ReadsTheDrawingsDesignJsonListsAndNothingElse) {
+  const auto dir = testing::scratch_dir();
+  const std::string svg =
+      "<svg xmlns='http://www.w3.org/2000/svg' width='10mm' height='10mm'><rect width='5' "
+      "height='5'/></svg>";
+  std::ofstream(dir / "net.svg") << svg;
+  std::ofstream(dir / "secret.txt") << "not a drawing";
+  std::ofstream(dir / "design.json")
+      << R"({"input": "x", "drawings": ["net.svg", "absent.svg", "../net.svg", "secret.txt", 3]})";
+  const RunFolder run = read_run_folder(dir);
+  ASSERT_EQ(run.drawings.size(), 1u);
+  EXPECT_EQ(run.drawings[0].first, "net.svg");
+  EXPECT_EQ(run.drawings[0].second, svg);
+  EXPECT_NE(std::find(run.missing.begin(), run.missing.end(), "absent.svg"), run.missing.end());
+  const std::string html = report_html(run);
+  EXPECT_NE(html.find("\"drawings\""), std::string::npos);
+  EXPECT_NE(html.find("net.svg"), std::string::npos);
+  EXPECT_EQ(html.find("not a drawing"), std::string::npos);
 }
 
 TEST(ReportPictures, PlateAndShapeAreDrawnWithTheirColourBars) {

@@ -440,8 +440,28 @@ function setupMetrics() {
   }
 }
 
+// ---- The method's own drawings (origami's nets, the tiles' profiles), as the run wrote them.
+function setupDrawings() {
+  const list = data.drawings || [];
+  if (list.length === 0) return;
+  const root = document.getElementById('drawings');
+  for (const drawing of list) {
+    const figure = document.createElement('figure');
+    const img = document.createElement('img');
+    img.src = 'data:image/svg+xml;base64,' + drawing.svg;
+    img.alt = drawing.name;
+    img.style.maxWidth = '100%';
+    const caption = document.createElement('figcaption');
+    caption.textContent = drawing.name;
+    figure.append(img, caption);
+    root.appendChild(figure);
+  }
+  document.getElementById('panel-drawings').hidden = false;
+}
+
 // ---- Start.
 setupMetrics();
+setupDrawings();
 setupLayers();
 if (!plate) message(document.getElementById('plate-canvas').parentElement, 'No flat.ply in the run folder.');
 if (!plate || !plate.theta2) document.getElementById('field-theta2').disabled = true;
