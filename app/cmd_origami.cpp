@@ -487,8 +487,8 @@ Command make_origami_command(CLI::App& app, const GlobalOptions& global) {
       "(two tools, or pauses to swap the filament). In 70 C water the sheet folds into the "
       "solid. Writes DIR/net.svg (the printed sheet), DIR/crease_pattern.svg and DIR/pattern.fold "
       "(Origami Simulator opens both), DIR/folded.ply (the folded sheet), DIR/flat.ply, "
-      "DIR/plate.gcode, DIR/layers/, DIR/design.json and DIR/report.html. docs/origami.md explains "
-      "each step.");
+      "DIR/plate.gcode (and DIR/plate_2.gcode, ... when the sheets need several beds), "
+      "DIR/layers/, DIR/design.json and DIR/report.html. docs/origami.md explains each step.");
   sub->add_option("input", o->input,
                   "A mesh (.obj, .ply, .stl, .off: simplified to at most --faces planar faces) or "
                   "a crease pattern (.svg: outline black, mountains red, valleys blue, the angle "
