@@ -4,6 +4,7 @@
 #include <fmt/core.h>
 #include <fmt/ranges.h>
 
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -51,6 +52,7 @@ struct OrigamiCliOptions {
   double flat_angle_deg = 1;
   bool simulate = false;
   double mesh_edge_mm = 1.5;
+  int fit_hinges = 0;  // rounds
   bool slicer = true;
   bool gcode = true;
   bool json = false;
@@ -83,6 +85,8 @@ void check(const OrigamiCliOptions& o) {
                       o.actuator_width));
   require(o.mesh_edge_mm >= 0.3 && o.mesh_edge_mm <= 10,
           fmt::format("--mesh-edge {}: give 0.3 to 10 mm", o.mesh_edge_mm));
+  require(o.fit_hinges >= 0 && o.fit_hinges <= 20,
+          fmt::format("--fit-hinges {}: give 0 to 20 rounds", o.fit_hinges));
   require(o.flat_angle_deg >= 0 && o.flat_angle_deg < 30,
           fmt::format("--flat-angle {}: give degrees in [0, 30)", o.flat_angle_deg));
 }
@@ -113,6 +117,10 @@ std::string solid_obj(const Polyhedron& solid) {
   }
   return out;
 }
+
+// --fit-hinges: how close every hinge must come, and the mesh its rounds simulate on.
+constexpr double kHingeFitTolerance = 2 * kDegree;  // rad
+constexpr double kHingeFitMeshEdge = 3;             // mm
 
 nlohmann::ordered_json hinges_json(const OrigamiSheet& sheet) {
   nlohmann::ordered_json hinges = nlohmann::ordered_json::array();
@@ -170,6 +178,29 @@ int run_origami(const OrigamiCliOptions& o, const GlobalOptions& global) {
                            : origami_example(o.example, o.faces);
     if (o.size_mm > 0) solid = scaled_to_size(solid, o.size_mm);
     design = design_origami(solid, options);
+  }
+  // Each actuator's width corrected until the shared simulator folds the sheets as designed
+  // (a coarse mesh: a few rounds of every sheet).
+  std::optional<HingeFit> hinge_fit;
+  double fit_seconds = 0;
+  if (o.fit_hinges > 0) {
+    const auto fit_start = std::chrono::steady_clock::now();
+    const double design_seconds = design.times.total;
+    hinge_fit = fit_hinges_to_simulation(design, options, o.fit_hinges, kHingeFitTolerance,
+                                         kHingeFitMeshEdge);
+    design = hinge_fit->design;
+    fit_seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - fit_start).count();
+    design.times.total = design_seconds;
+    if (!hinge_fit->stopped.empty()) {
+      notes.push_back("the hinge fit stopped early: " + hinge_fit->stopped);
+    }
+    notes.push_back(fmt::format(
+        "hinges fitted against the simulator: the worst hinge {:.1f}° off with the hinge curve's "
+        "widths, {:.1f}° after round {} of {}",
+        hinge_fit->worst_error.front() / kDegree,
+        hinge_fit->worst_error[hinge_fit->best_round] / kDegree, hinge_fit->best_round + 1,
+        hinge_fit->worst_error.size()));
   }
   for (const std::string& warning : design.warnings) notes.push_back(warning);
   const OrigamiPlate plate = origami_plate(design, options);
@@ -339,6 +370,14 @@ int run_origami(const OrigamiCliOptions& o, const GlobalOptions& global) {
   j["actuator_width_mm"] = o.actuator_width;
   j["flat_angle_deg"] = o.flat_angle_deg;
   j["hinge_curve"] = design.curve.calibrated ? "calibrated" : "uncalibrated default";
+  if (hinge_fit) {
+    std::vector<double> worst;
+    for (double e : hinge_fit->worst_error) worst.push_back(e / kDegree);
+    j["hinge_fit"] = {{"mesh_edge_mm", kHingeFitMeshEdge},
+                      {"seconds", fit_seconds},
+                      {"worst_hinge_error_deg_per_round", worst},
+                      {"kept_round", hinge_fit->best_round + 1}};
+  }
   j["sheets"] = sheets;
   // The report shows the printed nets (report/run_folder.h).
   nlohmann::ordered_json drawings = nlohmann::ordered_json::array();
@@ -367,8 +406,8 @@ int run_origami(const OrigamiCliOptions& o, const GlobalOptions& global) {
     bool converged = true;
     for (size_t i = 0; i < simulated.size(); ++i) {
       for (size_t a = 0; a < simulated[i].fold_angle.size(); ++a) {
-        worst = std::max(
-            worst, std::abs(simulated[i].fold_angle[a] - design.sheets[i].hinges[a].fold_angle));
+        worst = std::max(worst, std::abs(simulated[i].fold_angle[a] -
+                                         design.sheets[i].sheet.actuators[a].hinge.fold_angle));
       }
       mean = std::max(mean, simulated[i].to_design.mean_percent);
       converged = converged && simulated[i].result.converged;
@@ -379,7 +418,8 @@ int run_origami(const OrigamiCliOptions& o, const GlobalOptions& global) {
       for (size_t i = 0; i < gcode_angles.size(); ++i) {
         for (size_t a = 0; a < gcode_angles[i].size(); ++a) {
           gcode_worst = std::max(
-              gcode_worst, std::abs(gcode_angles[i][a] - design.sheets[i].hinges[a].fold_angle));
+              gcode_worst,
+              std::abs(gcode_angles[i][a] - design.sheets[i].sheet.actuators[a].hinge.fold_angle));
         }
         converged = converged && from_gcode[i].result.converged;
       }
@@ -463,7 +503,8 @@ int run_origami(const OrigamiCliOptions& o, const GlobalOptions& global) {
         solid_print->source, solid_print->time_s / 60, solid_print->filament_mm,
         m["time_saving_pct"].get<double>(), m["filament_saving_pct"].get<double>());
   }
-  fmt::print("design time {:.2f} s\n", design.times.total);
+  fmt::print("design time {:.2f} s{}\n", design.times.total,
+             hinge_fit ? fmt::format(", fitting the hinges {:.1f} s", fit_seconds) : "");
   const std::string n = design.sheets.size() == 1 ? "" : "_N";
   fmt::print(
       "wrote {}: net{}.svg, crease_pattern{}.svg, pattern{}.fold, folded.ply, "
@@ -528,6 +569,12 @@ Command make_origami_command(CLI::App& app, const GlobalOptions& global) {
                 "one plate with the layers printed there, started from the design), once from the "
                 "design's layers and once from what plate.gcode deposits: each hinge's simulated "
                 "angles in design.json, DIR/sheet_simulated.ply and sheet_gcode_simulated.ply");
+  sub->add_option("--fit-hinges", o->fit_hinges,
+                  "Correct each actuator's width against the shared simulator, at most this many "
+                  "rounds (each simulates every sheet on a 3 mm mesh and scales each width by "
+                  "the square root of designed / simulated angle); the design whose worst hinge "
+                  "came closest is printed. 0: the hinge curve's widths")
+      ->capture_default_str();
   sub->add_option("--mesh-edge", o->mesh_edge_mm, "Longest edge of --simulate's mesh, mm")
       ->capture_default_str();
   sub->add_flag("!--no-slicer", o->slicer,

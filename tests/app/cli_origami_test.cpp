@@ -129,6 +129,8 @@ TEST(CliOrigami, RefusesMeshesThatCannotFoldAndBadRequestsBeforeAnyWork) {
            {{"origami", "--example", "cube", "--simulate", "--mesh-edge", "0.1", "-o",
              dir.string()},
             "--mesh-edge 0.1"},
+           {{"origami", "--example", "cube", "--fit-hinges", "99", "-o", dir.string()},
+            "--fit-hinges 99"},
            {{"origami", fin.string(), "-o", dir.string()}, "triangles 0, 1 and 2"},
            {{"origami", "--example", "cube", "--size", "10", "-o", dir.string()},
             "scale the pattern"},

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <map>
 #include <numbers>
+#include <stdexcept>
 
 #include "common/error.h"
 #include "methods/origami/bunny.h"
@@ -271,6 +272,60 @@ void make_sheets(std::vector<OrigamiSheet> prepared, const OrigamiOptions& optio
   design.times.toolpath = seconds_since(toolpath_start);
 }
 
+// Notes §11: every fold angle is π − the dihedral; folded back, the nets give the solid, and each
+// face of the curved model lies on its face's plane.
+void check_against_solid(OrigamiDesign& design) {
+  const Polyhedron& solid = *design.solid;
+  const Unfolding& unfolding = *design.unfolding;
+  design.fold_angle_error = 0;
+  design.sharp_error_pct = 0;
+  design.curved_plane_error_pct = 0;
+  const double diagonal = (solid.V.colwise().maxCoeff() - solid.V.colwise().minCoeff()).norm();
+  for (int e = 0; e < static_cast<int>(unfolding.edges.size()); ++e) {
+    const PolyhedronEdge& edge = unfolding.edges[e];
+    if (edge.right < 0) continue;
+    const double cosine =
+        std::clamp(face_normal(solid, edge.left).dot(face_normal(solid, edge.right)), -1.0, 1.0);
+    const double dihedral = std::numbers::pi - std::acos(cosine);
+    design.fold_angle_error =
+        std::max(design.fold_angle_error,
+                 std::abs(std::abs(unfolding.fold_angle(e)) - (std::numbers::pi - dihedral)));
+  }
+  for (const OrigamiSheet& sheet : design.sheets) {
+    const CreasePattern& pattern = sheet.pattern;
+    const std::vector<Eigen::MatrixX3d> sharp = fold_sharp(pattern, 1.0);
+    Eigen::Index corners = 0;
+    for (const Eigen::MatrixX3d& face : sharp) corners += face.rows();
+    Eigen::MatrixXd folded(corners, 3), target(corners, 3);
+    Eigen::Index row = 0;
+    for (int f = 0; f < pattern.num_faces(); ++f) {
+      const std::vector<int>& face = solid.faces[pattern.solid_face[f]];
+      for (size_t k = 0; k < face.size(); ++k, ++row) {
+        // Turned over, the sheet runs each face's corners the other way round.
+        const size_t corner = sheet.turned_over ? face.size() - 1 - k : k;
+        folded.row(row) = sharp[f].row(static_cast<Eigen::Index>(corner));
+        target.row(row) = solid.V.row(face[k]);
+      }
+    }
+    const RigidFit fit = best_rigid_fit(folded, target);
+    const Eigen::MatrixXd aligned =
+        (folded * fit.rotation.transpose()).rowwise() + fit.translation.transpose();
+    design.sharp_error_pct = std::max(
+        design.sharp_error_pct, 100 * (aligned - target).rowwise().norm().maxCoeff() / diagonal);
+    for (int f = 0; f < pattern.num_faces(); ++f) {
+      const int s = pattern.solid_face[f];
+      const Eigen::Vector3d normal = face_normal(solid, s);
+      const Eigen::Vector3d on_plane = solid.V.row(solid.faces[s][0]).transpose();
+      const Eigen::MatrixX3d& curved = sheet.folded.faces[f];
+      for (Eigen::Index k = 0; k < curved.rows(); ++k) {
+        const Eigen::Vector3d p = fit.rotation * curved.row(k).transpose() + fit.translation;
+        design.curved_plane_error_pct = std::max(
+            design.curved_plane_error_pct, 100 * std::abs(normal.dot(p - on_plane)) / diagonal);
+      }
+    }
+  }
+}
+
 }  // namespace
 
 LayerStack printed_sheet_stack(const std::vector<OrigamiSheet>& sheets,
@@ -476,55 +531,51 @@ OrigamiDesign design_origami(const Polyhedron& solid, const OrigamiOptions& opti
   }
   make_sheets(std::move(prepared), options, design);
 
-  // Notes §11: every fold angle is π − the dihedral; folded back, the nets give the solid, and
-  // each face of the curved model lies on its face's plane.
-  const double diagonal = (solid.V.colwise().maxCoeff() - solid.V.colwise().minCoeff()).norm();
-  for (int e = 0; e < static_cast<int>(unfolding.edges.size()); ++e) {
-    const PolyhedronEdge& edge = unfolding.edges[e];
-    if (edge.right < 0) continue;
-    const double cosine =
-        std::clamp(face_normal(solid, edge.left).dot(face_normal(solid, edge.right)), -1.0, 1.0);
-    const double dihedral = std::numbers::pi - std::acos(cosine);
-    design.fold_angle_error =
-        std::max(design.fold_angle_error,
-                 std::abs(std::abs(unfolding.fold_angle(e)) - (std::numbers::pi - dihedral)));
-  }
-  for (const OrigamiSheet& sheet : design.sheets) {
-    const CreasePattern& pattern = sheet.pattern;
-    const std::vector<Eigen::MatrixX3d> sharp = fold_sharp(pattern, 1.0);
-    Eigen::Index corners = 0;
-    for (const Eigen::MatrixX3d& face : sharp) corners += face.rows();
-    Eigen::MatrixXd folded(corners, 3), target(corners, 3);
-    Eigen::Index row = 0;
-    for (int f = 0; f < pattern.num_faces(); ++f) {
-      const std::vector<int>& face = solid.faces[pattern.solid_face[f]];
-      for (size_t k = 0; k < face.size(); ++k, ++row) {
-        // Turned over, the sheet runs each face's corners the other way round.
-        const size_t corner = sheet.turned_over ? face.size() - 1 - k : k;
-        folded.row(row) = sharp[f].row(static_cast<Eigen::Index>(corner));
-        target.row(row) = solid.V.row(face[k]);
-      }
-    }
-    const RigidFit fit = best_rigid_fit(folded, target);
-    const Eigen::MatrixXd aligned =
-        (folded * fit.rotation.transpose()).rowwise() + fit.translation.transpose();
-    design.sharp_error_pct = std::max(
-        design.sharp_error_pct, 100 * (aligned - target).rowwise().norm().maxCoeff() / diagonal);
-    for (int f = 0; f < pattern.num_faces(); ++f) {
-      const int s = pattern.solid_face[f];
-      const Eigen::Vector3d normal = face_normal(solid, s);
-      const Eigen::Vector3d on_plane = solid.V.row(solid.faces[s][0]).transpose();
-      const Eigen::MatrixX3d& curved = sheet.folded.faces[f];
-      for (Eigen::Index k = 0; k < curved.rows(); ++k) {
-        const Eigen::Vector3d p = fit.rotation * curved.row(k).transpose() + fit.translation;
-        design.curved_plane_error_pct = std::max(
-            design.curved_plane_error_pct, 100 * std::abs(normal.dot(p - on_plane)) / diagonal);
-      }
-    }
-  }
   design.solid = solid;
+  check_against_solid(design);
   design.times.total = seconds_since(start);
   return design;
+}
+
+OrigamiDesign with_hinges_widened(const OrigamiDesign& design,
+                                  const std::vector<std::vector<double>>& width_scale,
+                                  const OrigamiOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  if (width_scale.size() != design.sheets.size()) {
+    throw std::invalid_argument("with_hinges_widened: one list of scales per sheet");
+  }
+  OrigamiDesign out;
+  out.solid = design.solid;
+  out.unfolding = design.unfolding;
+  out.curve = design.curve;
+  out.warnings = design.warnings;
+  std::vector<OrigamiSheet> prepared;
+  for (size_t s = 0; s < design.sheets.size(); ++s) {
+    const OrigamiSheet& from = design.sheets[s];
+    const std::vector<Actuator>& actuators = from.sheet.actuators;
+    if (width_scale[s].size() != actuators.size()) {
+      throw std::invalid_argument("with_hinges_widened: one scale per actuator");
+    }
+    OrigamiSheet sheet;
+    sheet.pattern = from.pattern;
+    sheet.turned_over = from.turned_over;
+    for (const HingeDesign& hinge : from.hinges) {
+      double scale = 1;
+      for (size_t a = 0; a < actuators.size(); ++a) {
+        if (actuators[a].hinge.crease == hinge.crease) scale = width_scale[s][a];
+      }
+      if (!(scale > 0) || !std::isfinite(scale)) {
+        throw std::invalid_argument("with_hinges_widened: scales must be positive and finite");
+      }
+      sheet.hinges.push_back(hinge_design(hinge.crease, hinge.fold_angle, hinge.radius * scale,
+                                          hinge.pla_on_bed, hinge.pla_speed));
+    }
+    prepared.push_back(std::move(sheet));
+  }
+  make_sheets(std::move(prepared), options, out);
+  if (out.solid) check_against_solid(out);
+  out.times.total = seconds_since(start);
+  return out;
 }
 
 OrigamiDesign design_origami_pattern(const CreasePattern& pattern, const OrigamiOptions& options) {

@@ -96,6 +96,16 @@ OrigamiDesign design_origami(const Polyhedron& solid, const OrigamiOptions& opti
 // folding and print. Throws as design_origami.
 OrigamiDesign design_origami_pattern(const CreasePattern& pattern, const OrigamiOptions& options);
 
+// The design again with actuator a of sheet s printed width_scale[s][a] times as wide (actuators
+// in each sheet's order; the same speed, the arc's radius growing with the width): every sheet
+// actuated, laid out, folded, checked and printed anew. For widths corrected against the shared
+// simulator (sheet_simulation.h). Throws as design_origami (a wider actuator may eat a face or
+// overlap another piece); std::invalid_argument for scales that do not match the sheets or are
+// not positive.
+OrigamiDesign with_hinges_widened(const OrigamiDesign& design,
+                                  const std::vector<std::vector<double>>& width_scale,
+                                  const OrigamiOptions& options);
+
 // The layers of a plate whose triangle t lies in piece piece(t) (a face, then the actuators, from
 // 0) of sheet sheet_of(t): faces PLA in every layer, their lines crossed as face_lines_along_y
 // says, shrinking as active_lambda1 says at the face speed (λ2 = λ3 = 1, the bed side more, as the

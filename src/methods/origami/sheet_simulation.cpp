@@ -1,9 +1,13 @@
 #include "methods/origami/sheet_simulation.h"
 
+#include <fmt/core.h>
+
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
+#include "common/error.h"
 #include "methods/tiles/sheet_mesh.h"
 #include "plate/laminate.h"
 
@@ -122,6 +126,49 @@ SheetSimulation simulate_sheet(const OrigamiDesign& design, int index,
 
   out.fold_angle = hinge_fold_angles(printed, mesh.V, mesh.F, mesh.face_region, out.result.V);
   return out;
+}
+
+HingeFit fit_hinges_to_simulation(const OrigamiDesign& design, const OrigamiOptions& options,
+                                  int max_rounds, double tolerance, double max_edge) {
+  if (max_rounds < 1) throw std::invalid_argument("fit_hinges_to_simulation: at least one round");
+  HingeFit fit;
+  OrigamiDesign current = design;
+  double best = INFINITY;
+  for (int round = 0; round < max_rounds; ++round) {
+    double worst = 0;
+    std::vector<std::vector<double>> scale(current.sheets.size());
+    for (size_t s = 0; s < current.sheets.size(); ++s) {
+      report_progress(options.progress,
+                      {"fit hinges", round + 1, max_rounds, NAN,
+                       fmt::format("{}, round {}", current.sheets[s].pattern.name, round + 1)});
+      const SheetSimulation simulated =
+          simulate_sheet(current, static_cast<int>(s), options, max_edge);
+      const std::vector<Actuator>& actuators = current.sheets[s].sheet.actuators;
+      for (size_t a = 0; a < actuators.size(); ++a) {
+        const double designed = actuators[a].hinge.fold_angle;
+        const double reached = simulated.fold_angle[a];
+        worst = std::max(worst, std::abs(reached - designed));
+        // The fold grows about in proportion to the strip's width (θ = κ W); half the step, as
+        // the hinges of a face pull on each other.
+        const double ratio = reached * designed > 0 ? std::sqrt(designed / reached) : 1.5;
+        scale[s].push_back(std::clamp(ratio, 2.0 / 3, 1.5));
+      }
+    }
+    fit.worst_error.push_back(worst);
+    if (worst < best) {
+      best = worst;
+      fit.best_round = round;
+      fit.design = current;
+    }
+    if (worst <= tolerance || round + 1 == max_rounds) break;
+    try {
+      current = with_hinges_widened(current, scale, options);
+    } catch (const UserError& e) {
+      fit.stopped = e.what();  // the widths that would not print: the best so far stays
+      break;
+    }
+  }
+  return fit;
 }
 
 }  // namespace flatmorph

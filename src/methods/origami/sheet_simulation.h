@@ -6,6 +6,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <string>
 #include <vector>
 
 #include "methods/origami/design_origami.h"
@@ -39,5 +40,23 @@ std::vector<double> hinge_fold_angles(const ActuatedSheet& sheet, const Eigen::M
 // triangles across the narrowest actuator). Throws the simulator's and the mesher's UserErrors.
 SheetSimulation simulate_sheet(const OrigamiDesign& design, int index,
                                const OrigamiOptions& options, double max_edge);
+
+// The design's actuators widened or narrowed until the shared simulator folds every printed sheet
+// as designed (the hinge curve is a strip's alone: on a whole sheet the faces' own shrink holds
+// some hinges back). Each round simulates every sheet (simulate_sheet at `max_edge`), scales each
+// actuator's width by θ / θ_simulated (within [2/3, 3/2] per round; 3/2 when a hinge bends the
+// wrong way) and rebuilds the sheets (with_hinges_widened). Stops when every hinge is within
+// `tolerance` (rad) or after `max_rounds` simulations, or when the next widths would not print (a
+// wider actuator that eats a face or overlaps another piece: `stopped` says why), and returns the
+// design whose worst hinge came closest. Throws as simulate_sheet.
+struct HingeFit {
+  OrigamiDesign design;
+  // Per round: the largest |θ_simulated − θ| over every hinge of every sheet, rad.
+  std::vector<double> worst_error;
+  int best_round = 0;   // the round whose design is returned
+  std::string stopped;  // why the rounds ended early, when the next widths would not print
+};
+HingeFit fit_hinges_to_simulation(const OrigamiDesign& design, const OrigamiOptions& options,
+                                  int max_rounds, double tolerance, double max_edge);
 
 }  // namespace flatmorph
