@@ -482,8 +482,9 @@ std::optional<FoldCollision> first_collision(const CreasePattern& pattern,
     return std::nullopt;
   };
 
+  // The flat sheet itself is sheet_overlaps' to judge (exact polygon clipping): all its pieces
+  // lie in one plane, where touching and crossing differ by rounding alone.
   std::vector<double> progress(num_actuators, 0.0);
-  if (const auto hit = collision_at(progress)) return FoldCollision{hit->first, hit->second, 0.0};
   if (!in_fold_order) {
     for (int k = 1; k <= steps; ++k) {
       const double t = static_cast<double>(k) / steps;

@@ -70,9 +70,9 @@ struct FoldCollision {
 // Folds the sheet from flat (progress 0) to folded in `steps` steps per stage, every hinge together
 // or, with `in_fold_order`, one actuator after another in the sheet's order (the pattern's fold
 // order; progress then counts the finished actuators), and returns the first pair of pieces that
-// cross (triangles_intersect at 1e-6 of the sheet's diagonal). Neighbours are not tested: a face
-// and its own actuators, two faces joined by a crease of the tree. Throws std::invalid_argument for
-// steps < 1.
+// cross (triangles_intersect at 1e-6 of the sheet's diagonal) from the first step on; the flat
+// sheet is sheet_overlaps' to check. Neighbours are not tested: a face and its own actuators, two
+// faces joined by a crease of the tree. Throws std::invalid_argument for steps < 1.
 std::optional<FoldCollision> first_collision(const CreasePattern& pattern,
                                              const ActuatedSheet& sheet, int steps = 50,
                                              bool in_fold_order = false);
