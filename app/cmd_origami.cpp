@@ -380,11 +380,7 @@ int run_origami(const OrigamiCliOptions& o, const GlobalOptions& global) {
   }
   j["sheets"] = sheets;
   // The report shows the printed nets (report/run_folder.h).
-  nlohmann::ordered_json drawings = nlohmann::ordered_json::array();
-  for (const RunFile& file : files) {
-    if (file.name.starts_with("net")) drawings.push_back(file.name);
-  }
-  j["drawings"] = drawings;
+  j["drawings"] = drawing_names(files, "net");
   if (!notes.empty()) j["notes"] = notes;
 
   nlohmann::ordered_json m;

@@ -192,11 +192,10 @@ int run_tiles(const TilesCliOptions& o, const GlobalOptions& global) {
   j["printer"] = printer.name;
   j["tiles"] = tiles;
   // The report shows the profiles (report/run_folder.h).
-  nlohmann::ordered_json drawings = nlohmann::ordered_json::array();
-  for (const RunFile& file : files) {
-    if (file.name.starts_with("profile_")) drawings.push_back(file.name);
+  if (const std::vector<std::string> drawings = drawing_names(files, "profile_");
+      !drawings.empty()) {
+    j["drawings"] = drawings;
   }
-  if (!drawings.empty()) j["drawings"] = drawings;
   if (!design.warnings.empty()) j["warnings"] = design.warnings;
 
   nlohmann::ordered_json m;

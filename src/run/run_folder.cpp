@@ -95,6 +95,14 @@ void write_run_folder(const std::filesystem::path& dir, const RunOutputs& run,
   });
 }
 
+std::vector<std::string> drawing_names(const std::vector<RunFile>& files, std::string_view prefix) {
+  std::vector<std::string> names;
+  for (const RunFile& file : files) {
+    if (file.name.starts_with(prefix) && file.name.ends_with(".svg")) names.push_back(file.name);
+  }
+  return names;
+}
+
 std::vector<RunMetric> run_metric_list(const nlohmann::ordered_json& metrics) {
   constexpr std::pair<const char*, const char*> kUnits[] = {
       {"_pct", "% of the target's bounding-box diagonal"},

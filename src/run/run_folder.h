@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "common/progress.h"
@@ -49,6 +50,10 @@ struct RunOutputs {
   nlohmann::ordered_json metrics;
   std::vector<RunMetric> metric_list;
 };
+
+// The names of `files` that start with `prefix` and end in ".svg": the drawings a run lists in
+// design.json under "drawings" for the report to show (report/run_folder.h).
+std::vector<std::string> drawing_names(const std::vector<RunFile>& files, std::string_view prefix);
 
 // The numbers and flags of a metrics object as RunMetrics, each with the unit its key's suffix
 // names (_pct: % of the target's diagonal, _s, _rad, _mm, _g).

@@ -178,6 +178,17 @@ std::vector<int> unprintable_hinges(const OrigamiSheet& sheet, const Unfolding& 
   return edges;
 }
 
+// What the design says of a sheet whose pieces collide on the way to the folded shape.
+std::string collision_warning(const OrigamiSheet& sheet) {
+  return fmt::format("{}: folding every hinge together, {} runs into {} at {:.0f} % of the fold{}",
+                     sheet.pattern.name, piece_name(sheet.sheet, sheet.collision->piece_a),
+                     piece_name(sheet.sheet, sheet.collision->piece_b),
+                     100 * sheet.collision->progress,
+                     sheet.order_collision ? "; folding hinge after hinge does not avoid it"
+                                           : "; folding hinge after hinge in the fold order "
+                                             "avoids it: hold the faces back as the report shows");
+}
+
 void make_sheets(std::vector<OrigamiSheet> prepared, const OrigamiOptions& options,
                  OrigamiDesign& design) {
   const auto start = std::chrono::steady_clock::now();
@@ -228,15 +239,7 @@ void make_sheets(std::vector<OrigamiSheet> prepared, const OrigamiOptions& optio
     sheet.order_collision = first_collision(sheet.pattern, sheet.sheet, options.fold_steps, true);
     sheet.corner_gap = largest_corner_gap(sheet.pattern, sheet.sheet);
     sheet.loop_closure = loop_closure_error(sheet.pattern);
-    if (sheet.collision) {
-      design.warnings.push_back(fmt::format(
-          "{}: folding every hinge together, {} runs into {} at {:.0f} % of the fold{}",
-          sheet.pattern.name, piece_name(sheet.sheet, sheet.collision->piece_a),
-          piece_name(sheet.sheet, sheet.collision->piece_b), 100 * sheet.collision->progress,
-          sheet.order_collision ? "; folding hinge after hinge does not avoid it"
-                                : "; folding hinge after hinge in the fold order avoids it: "
-                                  "hold the faces back as the report shows"));
-    }
+    if (sheet.collision) design.warnings.push_back(collision_warning(sheet));
   }
   design.times.fold = seconds_since(fold_start);
 
@@ -548,7 +551,11 @@ OrigamiDesign with_hinges_widened(const OrigamiDesign& design,
   out.solid = design.solid;
   out.unfolding = design.unfolding;
   out.curve = design.curve;
+  // The sheets' collisions are found anew.
   out.warnings = design.warnings;
+  for (const OrigamiSheet& sheet : design.sheets) {
+    if (sheet.collision) std::erase(out.warnings, collision_warning(sheet));
+  }
   std::vector<OrigamiSheet> prepared;
   for (size_t s = 0; s < design.sheets.size(); ++s) {
     const OrigamiSheet& from = design.sheets[s];
