@@ -478,11 +478,16 @@ OrigamiDesign design_origami(const Polyhedron& solid, const OrigamiOptions& opti
   report_progress(options.progress,
                   {"unfold", 0, 0, NAN, fmt::format("{} faces", solid.faces.size())});
   // Case B hinges bend less, so they need wider actuators: the tree prefers to cut them, the more
-  // the weaker they are.
+  // the weaker they are. Uncalibrated, it cuts them all: the default model's case B actuator
+  // curls along its hinge and folds far less than its curve promises once the hinge is longer
+  // than it is wide (docs/origami.md), so the nets fold on case A actuators alone, as every
+  // polyhedron of the paper does (Fig. 10f).
   UnfoldOptions unfold_options = options.unfold;
   const double mid = 0.5 * (design.curve.min_speed + design.curve.max_speed);
-  unfold_options.minority_weight = std::min(
-      1.0, hinge_curvature(design.curve, mid, false) / hinge_curvature(design.curve, mid, true));
+  unfold_options.minority_weight = design.curve.calibrated
+                                       ? std::min(1.0, hinge_curvature(design.curve, mid, false) /
+                                                           hinge_curvature(design.curve, mid, true))
+                                       : 0.0;
   unfold_options.edge_weight.assign(polyhedron_edges(solid).size(), 1.0);
   // A tree whose trims eat a face, or whose shifted faces overlap, is unfolded again with those
   // hinges turned down, so that the next tree cuts them (bounded: the last tree's problem is
@@ -597,6 +602,24 @@ OrigamiDesign design_origami_pattern(const CreasePattern& pattern, const Origami
         "{}: folded rigidly along its tree, two sides of a crease off the tree end {:.2f} mm "
         "apart: the drawn angles do not close around a vertex",
         pattern.name, design.sheets[0].loop_closure));
+  }
+  if (!design.curve.calibrated) {
+    const OrigamiSheet& sheet = design.sheets[0];
+    std::vector<std::string> weak;  // "faces 3-4": face numbers from 1, as net.svg shows them
+    for (const HingeDesign& hinge : sheet.hinges) {
+      const Crease& crease = sheet.pattern.creases[hinge.crease];
+      if (!hinge.pla_on_bed)
+        weak.push_back(fmt::format("{}-{}", crease.left + 1, crease.right + 1));
+    }
+    if (!weak.empty()) {
+      design.warnings.push_back(fmt::format(
+          "{}: {} print{} case B (TPU on the bed; between faces {}): with the uncalibrated "
+          "hinge curve a case B actuator folds less than promised once its hinge is longer than "
+          "it is wide (it curls along the hinge); calibrate the hinges ('flatmorph calibrate "
+          "print --hinge-sheet') or check them with --simulate",
+          pattern.name, weak.size() == 1 ? "1 hinge" : fmt::format("{} hinges", weak.size()),
+          weak.size() == 1 ? "s" : "", fmt::join(weak, ", ")));
+    }
   }
   design.times.total = seconds_since(start);
   return design;

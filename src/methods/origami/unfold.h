@@ -19,7 +19,8 @@ struct UnfoldOptions {
   int tries = 200;
   // The weight of a hinge whose fold runs against most of the solid's folding (a valley of a mostly
   // convex solid), as a share of its length: such hinges print the weaker case B actuator, which
-  // is wider, so a tree that cuts them instead folds on narrower actuators. 1: length alone.
+  // is wider, so a tree that cuts them instead folds on narrower actuators. 1: length alone; 0:
+  // every such hinge is cut (the solid may then unfold into several nets).
   double minority_weight = 1;
   // Per edge of polyhedron_edges, a factor on its weight (empty: 1 for all): a design that finds a
   // hinge it cannot print (its trims eat a face) turns it down so that the next tree cuts it; an

@@ -11,7 +11,9 @@
 
 #include "common/error.h"
 #include "material/material.h"
+#include "methods/origami/crease_pattern_svg.h"
 #include "methods/origami/sheet_layout.h"
+#include "plate/actuator_stack.h"
 
 namespace flatmorph {
 namespace {
@@ -88,11 +90,46 @@ TEST(DesignOrigami, TheLowPolyBunnyUnfoldsIntoNetsThatPrintAndFoldBack) {
                               [&](const std::string& w) { return w.starts_with(said); }))
           << said;
     }
+    // Uncalibrated, the tree cuts the valleys rather than print the weak case B actuators.
+    for (const HingeDesign& hinge : sheet.hinges) EXPECT_TRUE(hinge.pla_on_bed);
     EXPECT_TRUE(sheet_overlaps(sheet.sheet).empty()) << sheet.pattern.name;
     EXPECT_LE(room_overfill(sheet_points(sheet.sheet), options.room), 1) << sheet.pattern.name;
   }
   EXPECT_EQ(faces, bunny.faces.size());
   EXPECT_GE(hinges, 0.75 * (bunny.faces.size() - 1));
+}
+
+// A drawn pattern keeps its creases: its valleys print case B, and with the uncalibrated curve
+// (which promises such hinges more than they fold once longer than wide) the design says which;
+// calibrated, it trusts the curve and says nothing.
+TEST(DesignOrigami, ADrawnValleyPrintsCaseBAndIsNamedWhenTheCurveIsNotCalibrated) {
+  const std::string svg =
+      "<svg xmlns='http://www.w3.org/2000/svg' width='90mm' height='30mm' viewBox='0 0 90 30'>"
+      "<polygon points='0,0 90,0 90,30 0,30' stroke='#000000' fill='none'/>"
+      "<line x1='30' y1='0' x2='30' y2='30' stroke='#ff0000' data-fold-angle='-90'/>"
+      "<line x1='60' y1='0' x2='60' y2='30' stroke='#0000ff' data-fold-angle='30'/></svg>";
+  OrigamiOptions options = default_options();
+  const CreasePattern pattern = read_crease_pattern_svg(svg, "zigzag");
+  const OrigamiDesign design = design_origami_pattern(pattern, options);
+  ASSERT_EQ(design.sheets.size(), 1u);
+  EXPECT_FALSE(design.sheets[0].turned_over);
+  int case_b = 0;
+  for (const HingeDesign& hinge : design.sheets[0].hinges) {
+    case_b += !hinge.pla_on_bed;
+    EXPECT_EQ(hinge.pla_on_bed, hinge.fold_angle < 0);
+  }
+  EXPECT_EQ(case_b, 1);
+  const auto warned = [](const OrigamiDesign& d) {
+    return std::any_of(d.warnings.begin(), d.warnings.end(), [](const std::string& w) {
+      return w.starts_with("zigzag: 1 hinge prints case B (TPU on the bed; between faces ") &&
+             w.find("calibrate the hinges") != std::string::npos;
+    });
+  };
+  EXPECT_TRUE(warned(design));
+  HingeCurve calibrated = default_hinge_curve(options.pla, options.tpu, options.print.stack);
+  calibrated.calibrated = true;
+  options.pla.hinge_curve = calibrated;
+  EXPECT_FALSE(warned(design_origami_pattern(pattern, options)));
 }
 
 // Cutting hinges to make a net print has a limit: a cube too small for any of its actuators is
@@ -162,6 +199,8 @@ TEST(DesignOrigami, ANetLargerThanTheBedIsCutIntoNetsThatFit) {
     faces += sheet.pattern.num_faces();
     hinges += sheet.hinges.size();
     EXPECT_LE(room_overfill(sheet_points(sheet.sheet), options.room), 1) << sheet.pattern.name;
+    // Uncalibrated, the tree cuts the valleys rather than print the weak case B actuators.
+    for (const HingeDesign& hinge : sheet.hinges) EXPECT_TRUE(hinge.pla_on_bed);
     EXPECT_TRUE(sheet_overlaps(sheet.sheet).empty()) << sheet.pattern.name;
     EXPECT_FALSE(sheet.collision) << sheet.pattern.name;
   }
