@@ -1,6 +1,8 @@
 // flatmorph simulate: predict the shape a printed plate takes in hot water.
 #include <fmt/core.h>
 
+#include <algorithm>
+
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -89,7 +91,10 @@ std::vector<Material> tool_materials(const SimulateOptions& o, const GcodeHeader
   }
   std::vector<Material> materials = header_tool_materials(header, o.plate_path);
   if (!materials.empty()) {
-    said = "the file's header";
+    const bool models = std::any_of(header.tool_shrink.begin(), header.tool_shrink.end(),
+                                    [](const auto& m) { return m.has_value(); });
+    said = models ? "the file's header, with the shrink ratios and curves it was designed with"
+                  : "the file's header";
     return materials;
   }
   said = "no material named in the file: pla-paper (give --material A[,B])";

@@ -2,6 +2,8 @@
 
 #include <fmt/core.h>
 
+#include <algorithm>
+
 #include "common/error.h"
 
 namespace flatmorph::cli {
@@ -31,6 +33,23 @@ std::vector<Material> header_tool_materials(const GcodeHeaderInfo& header,
   for (const std::string& name : header.tool_materials) {
     try {
       materials.push_back(load_material(name));
+      // The shrink model the file was designed with, when its header gives it (an origami
+      // print's PLA is the hinge model's, not the preset's Shrink & Morph ratios).
+      const size_t tool = materials.size() - 1;
+      if (tool < header.tool_shrink.size() && header.tool_shrink[tool]) {
+        const HeaderShrinkModel& said = *header.tool_shrink[tool];
+        Material& m = materials.back();
+        m.lambda1 = said.lambda1;
+        m.lambda2 = said.lambda2;
+        m.lambda3 = said.lambda3;
+        m.delta_lambda1 = said.delta_lambda1;
+        m.speed_curve = said.speed_curve;
+        m.thickness_curve = said.thickness_curve;
+        if (m.speed_curve) {  // the ratios stand for a speed within the curve's range
+          m.print_speed = std::clamp(m.print_speed, m.speed_curve->min_print_speed,
+                                     m.speed_curve->max_print_speed);
+        }
+      }
     } catch (const UserError&) {
       throw UserError(ErrorCategory::kOption,
                       fmt::format("{}: the file was printed with the material \"{}\", which is "

@@ -15,8 +15,10 @@ namespace flatmorph::cli {
 // an empty name, load_material's for an unknown one.
 std::vector<Material> load_tool_materials(const std::string& list);
 
-// The materials the header names, one per tool; empty when it names none. UserError (kOption)
-// naming `file` for a name that is no preset.
+// The materials the header names, one per tool, each with the shrink model the header gives for
+// its tool when it gives one (GcodeHeaderInfo::tool_shrink: the ratios and curves the file was
+// designed with); empty when it names none. UserError (kOption) naming `file` for a name that is
+// no preset.
 std::vector<Material> header_tool_materials(const GcodeHeaderInfo& header, const std::string& file);
 
 // The printer the header names. UserError (kOption) naming `file` when it names none or one that

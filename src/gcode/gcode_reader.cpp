@@ -137,6 +137,101 @@ std::optional<std::vector<double>> parse_diameters(std::string_view value) {
   }
 }
 
+// The numbers of "0.9 -0.002" (space-separated), or nothing when one is not a number.
+std::optional<std::vector<double>> parse_numbers(std::string_view s) {
+  std::vector<double> out;
+  s = trim(s);
+  while (!s.empty()) {
+    const size_t space = s.find(' ');
+    const std::optional<double> v = parse_number(s.substr(0, space));
+    if (!v) return std::nullopt;
+    out.push_back(*v);
+    if (space == std::string_view::npos) break;
+    s = trim(s.substr(space + 1));
+  }
+  if (out.empty()) return std::nullopt;
+  return out;
+}
+
+// "A..B UNIT" (the unit optional): (A, B).
+std::optional<std::pair<double, double>> parse_range(std::string_view s, std::string_view unit) {
+  s = trim(s);
+  if (!unit.empty() && s.size() > unit.size() && s.substr(s.size() - unit.size()) == unit) {
+    s.remove_suffix(unit.size());
+  }
+  const size_t dots = s.find("..");
+  if (dots == std::string_view::npos) return std::nullopt;
+  const std::optional<double> a = parse_number(s.substr(0, dots)),
+                              b = parse_number(s.substr(dots + 2));
+  if (!a || !b) return std::nullopt;
+  return std::make_pair(*a, *b);
+}
+
+// The parts of "name1 value1, name2 value2, ..." after each expected name, in order; nothing
+// when the names differ.
+std::optional<std::vector<std::string_view>> named_parts(
+    std::string_view s, const std::vector<std::string_view>& names) {
+  std::vector<std::string_view> out;
+  for (size_t i = 0; i < names.size(); ++i) {
+    const size_t comma = i + 1 < names.size() ? s.find(", ") : std::string_view::npos;
+    if (i + 1 < names.size() && comma == std::string_view::npos) return std::nullopt;
+    const std::string_view part = trim(s.substr(0, comma));
+    if (part.substr(0, names[i].size()) != names[i] || part.size() <= names[i].size() ||
+        part[names[i].size()] != ' ') {
+      return std::nullopt;
+    }
+    out.push_back(trim(part.substr(names[i].size())));
+    if (comma != std::string_view::npos) s = s.substr(comma + 2);
+  }
+  return out;
+}
+
+std::optional<HeaderShrinkModel> parse_shrink_line(std::string_view value) {
+  const auto parts = named_parts(value, {"lambda1", "lambda2", "lambda3", "delta_lambda1"});
+  if (!parts) return std::nullopt;
+  HeaderShrinkModel m;
+  double* fields[] = {&m.lambda1, &m.lambda2, &m.lambda3, &m.delta_lambda1};
+  for (size_t i = 0; i < 4; ++i) {
+    const std::optional<double> v = parse_number((*parts)[i]);
+    if (!v) return std::nullopt;
+    *fields[i] = *v;
+  }
+  if (!(m.lambda1 > 0 && m.lambda2 > 0 && m.lambda3 > 0)) return std::nullopt;
+  return m;
+}
+
+// "none": a model without the curve (an empty optional inside); else the curve, or nothing when
+// the line does not read.
+std::optional<std::optional<SpeedCurve>> parse_speed_curve_line(std::string_view value) {
+  if (value == "none") return std::optional<SpeedCurve>();
+  const auto parts = named_parts(value, {"lambda1 coefficients", "speeds", "layer height"});
+  if (!parts) return std::nullopt;
+  const auto coefficients = parse_numbers((*parts)[0]);
+  const auto speeds = parse_range((*parts)[1], " mm/s");
+  std::string_view height = (*parts)[2];
+  if (height.size() > 3 && height.substr(height.size() - 3) == " mm") height.remove_suffix(3);
+  const std::optional<double> h = parse_number(height);
+  if (!coefficients || !speeds || !h) return std::nullopt;
+  SpeedCurve curve{*coefficients, speeds->first, speeds->second, *h, 0};
+  if (!speed_curve_problem(curve).empty()) return std::nullopt;
+  return std::optional<SpeedCurve>(curve);
+}
+
+std::optional<std::optional<ThicknessCurve>> parse_thickness_curve_line(std::string_view value) {
+  if (value == "none") return std::optional<ThicknessCurve>();
+  const auto parts = named_parts(value, {"lambda1 coefficients", "layer heights"});
+  if (!parts) return std::nullopt;
+  const auto coefficients = parse_numbers((*parts)[0]);
+  const auto heights = parse_range((*parts)[1], " mm");
+  if (!coefficients || !heights) return std::nullopt;
+  ThicknessCurve curve;
+  curve.lambda1_coefficients = *coefficients;
+  curve.min_layer_height = heights->first;
+  curve.max_layer_height = heights->second;
+  if (!thickness_curve_problem(curve).empty()) return std::nullopt;
+  return std::optional<ThicknessCurve>(curve);
+}
+
 // The offset in "x_bed = x_plate - 12.000, ..." after `name` ("x_plate"): -12.
 std::optional<double> plate_offset(std::string_view value, std::string_view name) {
   const size_t at = value.find(name);
@@ -236,6 +331,7 @@ class Reader {
       }
     }
     header_.tool_materials = own_materials_.empty() ? slicer_materials_ : own_materials_;
+    header_.tool_shrink = tool_shrink();
     return std::move(header_);
   }
 
@@ -593,6 +689,49 @@ class Reader {
     return *v;
   }
 
+  // The tool `key` names for `base`: 0 for "base" itself, n for "Tn base"; nothing for another
+  // key or a tool number out of range.
+  static std::optional<int> tool_key(std::string_view key, std::string_view base) {
+    if (key == base) return 0;
+    if (key.size() < base.size() + 3 || key[0] != 'T' ||
+        key.substr(key.size() - base.size() - 1) != fmt::format(" {}", base)) {
+      return std::nullopt;
+    }
+    const std::string_view digits = key.substr(1, key.size() - base.size() - 2);
+    int tool = 0;
+    const auto [end, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), tool);
+    if (ec != std::errc() || end != digits.data() + digits.size() || tool < 0 ||
+        tool >= kFirstSpecialTool) {
+      return std::nullopt;
+    }
+    return tool;
+  }
+
+  // What a tool's shrink lines said (each unset until read; an inner unset optional is "none").
+  struct ShrinkLines {
+    std::optional<HeaderShrinkModel> shrink;
+    std::optional<std::optional<SpeedCurve>> speed_curve;
+    std::optional<std::optional<ThicknessCurve>> thickness_curve;
+  };
+
+  ShrinkLines& shrink_lines(int tool) {
+    if (static_cast<size_t>(tool) >= shrink_lines_.size()) shrink_lines_.resize(tool + 1);
+    return shrink_lines_[tool];
+  }
+
+  // The tools whose three lines were all read.
+  std::vector<std::optional<HeaderShrinkModel>> tool_shrink() const {
+    std::vector<std::optional<HeaderShrinkModel>> out(shrink_lines_.size());
+    for (size_t t = 0; t < shrink_lines_.size(); ++t) {
+      const ShrinkLines& l = shrink_lines_[t];
+      if (!l.shrink || !l.speed_curve || !l.thickness_curve) continue;
+      out[t] = *l.shrink;
+      out[t]->speed_curve = *l.speed_curve;
+      out[t]->thickness_curve = *l.thickness_curve;
+    }
+    return out;
+  }
+
   // `rank`: 0 flatmorph's own key, then the slicers' in order of preference; the first line of
   // the best rank wins.
   void set_printer(int rank, std::string_view name) {
@@ -609,19 +748,15 @@ class Reader {
       set_printer(1, value);
     } else if (key == "printer_model") {
       set_printer(2, value);
-    } else if (key == "material" ||
-               (key.size() > 10 && key[0] == 'T' && key.substr(key.size() - 9) == " material")) {
-      int tool = 0;
-      if (key != "material") {
-        const std::string_view digits = key.substr(1, key.size() - 10);
-        const auto [end, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), tool);
-        if (ec != std::errc() || end != digits.data() + digits.size() || tool < 0 ||
-            tool >= kFirstSpecialTool) {
-          return;
-        }
-      }
-      if (static_cast<size_t>(tool) >= own_materials_.size()) own_materials_.resize(tool + 1);
-      if (own_materials_[tool].empty()) own_materials_[tool] = value;
+    } else if (const std::optional<int> tool = tool_key(key, "material")) {
+      if (static_cast<size_t>(*tool) >= own_materials_.size()) own_materials_.resize(*tool + 1);
+      if (own_materials_[*tool].empty()) own_materials_[*tool] = value;
+    } else if (const std::optional<int> tool = tool_key(key, "shrink")) {
+      shrink_lines(*tool).shrink = parse_shrink_line(value);
+    } else if (const std::optional<int> tool = tool_key(key, "speed_curve")) {
+      shrink_lines(*tool).speed_curve = parse_speed_curve_line(value);
+    } else if (const std::optional<int> tool = tool_key(key, "thickness_curve")) {
+      shrink_lines(*tool).thickness_curve = parse_thickness_curve_line(value);
     } else if (key == "filament_settings_id") {
       if (slicer_materials_.empty()) slicer_materials_ = split_quoted_list(value);
     } else if (key == "filament_diameter") {
@@ -670,6 +805,7 @@ class Reader {
     }
     const std::vector<double> sections = filament_sections();
     header_.tool_materials = own_materials_.empty() ? slicer_materials_ : own_materials_;
+    header_.tool_shrink = tool_shrink();
     out.header = std::move(header_);
     out.tool_changes = tool_changes_;
     out.retractions = retractions_;
@@ -781,6 +917,7 @@ class Reader {
   GcodeHeaderInfo header_;
   int printer_rank_ = INT_MAX;
   std::vector<std::string> own_materials_, slicer_materials_;
+  std::vector<ShrinkLines> shrink_lines_;
   int diameter_line_ = 0;
   std::string diameter_text_;
 

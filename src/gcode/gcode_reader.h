@@ -39,6 +39,9 @@
 #include <string_view>
 #include <vector>
 
+#include "material/speed_curve.h"
+#include "material/thickness_curve.h"
+
 namespace flatmorph {
 
 struct DepositedBead {  // one extruding move (an arc gives several chords)
@@ -57,6 +60,16 @@ struct DepositedBead {  // one extruding move (an arc gives several chords)
   std::string type;
 };
 
+// A tool's shrink model as a flatmorph header writes it, the ratios the file was designed with:
+// "; [Tn ]shrink = lambda1 A, lambda2 B, lambda3 C, delta_lambda1 D", "; [Tn ]speed_curve = none"
+// or "= lambda1 coefficients C0 C1 ..., speeds LO..HI mm/s, layer height H mm", and
+// "; [Tn ]thickness_curve = none" or "= lambda1 coefficients C0 C1 ..., layer heights LO..HI mm".
+struct HeaderShrinkModel {
+  double lambda1 = 1, lambda2 = 1, lambda3 = 1, delta_lambda1 = 0;
+  std::optional<SpeedCurve> speed_curve;
+  std::optional<ThicknessCurve> thickness_curve;
+};
+
 struct GcodeHeaderInfo {  // what the file's comments say, when they say it (never required)
   // flatmorph "; printer = NAME"; else PrusaSlicer/Orca "; printer_settings_id = NAME"; else
   // "; printer_model = NAME"; else Cura ";TARGET_MACHINE.NAME:" or ";MACHINE_NAME:".
@@ -64,6 +77,9 @@ struct GcodeHeaderInfo {  // what the file's comments say, when they say it (nev
   // Per tool: flatmorph "; material = NAME" or "; T0 material = NAME", "; T1 material = ...";
   // else PrusaSlicer/Orca "; filament_settings_id = "A";"B"".
   std::vector<std::string> tool_materials;
+  // Per tool (index = tool; may be shorter than tool_materials): its shrink model when the three
+  // lines of HeaderShrinkModel are there and read (usable curves); else unset.
+  std::vector<std::optional<HeaderShrinkModel>> tool_shrink;
   // mm: "; filament_diameter = 1.75 mm" (flatmorph) or "= 1.75,1.75" (PrusaSlicer, one per
   // extruder): the first, and all of them in tool order.
   std::optional<double> filament_diameter;

@@ -1,6 +1,7 @@
 #include "gcode/gcode_writer.h"
 
 #include <fmt/core.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <cmath>
@@ -829,8 +830,26 @@ std::string header(const PrinterProfile& printer, const std::vector<Material>& t
     if (!one) add(fmt::format("{}speeds = {}", tool, speeds_of(printer, m, " mm/s")));
     add(fmt::format("{}fan = {:g} % from the second layer, {:g} % on the first", tool, m.fan_speed,
                     m.first_layer_fan_speed));
-    add(fmt::format("{}shrink = lambda1 {:g}, lambda2 {:g}, lambda3 {:g}, delta_lambda1 {:g}", tool,
-                    m.lambda1, m.lambda2, m.lambda3, m.delta_lambda1));
+    add(
+        fmt::format("{}shrink = lambda1 {:.12g}, lambda2 {:.12g}, lambda3 {:.12g}, delta_lambda1 "
+                    "{:.12g}",
+                    tool, m.lambda1, m.lambda2, m.lambda3, m.delta_lambda1));
+    // The curves too, to full precision: with the line above they are the whole shrink model the
+    // design was made with, which a reader of the file (flatmorph simulate) takes over the
+    // preset's.
+    add(m.speed_curve
+            ? fmt::format("{}speed_curve = lambda1 coefficients {:.12g}, speeds {:.12g}..{:.12g} "
+                          "mm/s, layer height {:.12g} mm",
+                          tool, fmt::join(m.speed_curve->lambda1_coefficients, " "),
+                          m.speed_curve->min_print_speed, m.speed_curve->max_print_speed,
+                          m.speed_curve->layer_height)
+            : fmt::format("{}speed_curve = none", tool));
+    add(m.thickness_curve
+            ? fmt::format("{}thickness_curve = lambda1 coefficients {:.12g}, layer heights "
+                          "{:.12g}..{:.12g} mm",
+                          tool, fmt::join(m.thickness_curve->lambda1_coefficients, " "),
+                          m.thickness_curve->min_layer_height, m.thickness_curve->max_layer_height)
+            : fmt::format("{}thickness_curve = none", tool));
     add(fmt::format("{}density = {:g} g/cm3", tool, m.density));
   }
   h += ";\n";

@@ -49,6 +49,22 @@ TEST(CliOrigami, TheCubeWritesTheRunFolderAndAGcodeThatPassesTheCheck) {
   const auto check = run_cli({"check", (dir / "plate.gcode").string(), "--printer", "prusa-xl-2t"});
   EXPECT_EQ(check.exit_code, 0) << check.out << check.err;
 
+  // The G-code on its own predicts with the PLA the design modelled (its header's shrink model:
+  // the actuators' λ1 from their speed, no growth across), not pla-generic's Shrink & Morph
+  // ratios (λ2 1.08, which curled the sheet and never settled).
+  const auto simulated = run_cli({"simulate", (dir / "plate.gcode").string(), "--resolution", "4",
+                                  "-o", (scratch / "from-gcode" / "cube.ply").string()});
+  ASSERT_EQ(simulated.exit_code, 0) << simulated.err;
+  EXPECT_NE(simulated.out.find("with the shrink ratios and curves it was designed with"),
+            std::string::npos)
+      << simulated.out;
+  std::ifstream stack_in(scratch / "from-gcode" / "cube" / "flat.stack.json");
+  const nlohmann::json stack = nlohmann::json::parse(stack_in);
+  const nlohmann::json& pla = stack.at("materials").at(0);
+  EXPECT_EQ(pla.at("name"), "pla-generic");
+  EXPECT_EQ(pla.at("lambda2").get<double>(), 1.0);
+  EXPECT_TRUE(pla.contains("speed_curve"));
+
   // The drawn pattern it wrote folds the same way: the forward flow.
   const std::filesystem::path drawn = scratch / "cube-drawn";
   const auto again = run_cli(

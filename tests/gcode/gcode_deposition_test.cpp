@@ -501,6 +501,69 @@ INSTANTIATE_TEST_SUITE_P(GcodeDepositionPresets, FlatmorphGcode,
                            return name;
                          });
 
+// The header gives each tool's shrink model, curves included, to the precision a simulation
+// needs: the file alone says what its design assumed (a reader takes it over the preset's). A
+// line that does not read leaves that tool's model unset, not wrong.
+TEST(GcodeHeader, GivesEachToolsShrinkModelAndDropsALineThatDoesNotRead) {
+  const PrinterProfile printer = load_printer("prusa-xl-2t");
+  Toolpath toolpath = testing::disk_toolpath(30, 4);
+  for (ToolpathLayer& layer : toolpath.layers) {
+    for (PathPolyline& path : layer.paths) {
+      for (SegmentStyle& s : path.segments) s.tool = &layer == &toolpath.layers.back() ? 1 : 0;
+    }
+  }
+  Material pla = load_material("pla-generic");
+  pla.speed_curve = SpeedCurve{{0.948, -0.00132, 1.0 / 3e6}, 20, 120, 0.2, 0};
+  pla.print_speed = 50;
+  pla.lambda1 = 0.6 + 1.0 / 30;                           // not short: every digit must come back
+  const Material geodesy = load_material("pla-geodesy");  // a thickness curve, no speed curve
+  ASSERT_TRUE(geodesy.thickness_curve);
+  const std::string text = make_gcode(toolpath, printer, {pla, geodesy}).text;
+  const GcodeHeaderInfo header = read_gcode_header(text);
+  ASSERT_EQ(header.tool_shrink.size(), 2u);
+  for (size_t t = 0; t < 2; ++t) {
+    const Material& m = t == 0 ? pla : geodesy;
+    ASSERT_TRUE(header.tool_shrink[t]) << t;
+    const HeaderShrinkModel& got = *header.tool_shrink[t];
+    EXPECT_NEAR(got.lambda1, m.lambda1, 1e-11) << t;
+    EXPECT_NEAR(got.lambda2, m.lambda2, 1e-11) << t;
+    EXPECT_NEAR(got.lambda3, m.lambda3, 1e-11) << t;
+    EXPECT_NEAR(got.delta_lambda1, m.delta_lambda1, 1e-11) << t;
+    ASSERT_EQ(got.speed_curve.has_value(), m.speed_curve.has_value()) << t;
+    ASSERT_EQ(got.thickness_curve.has_value(), m.thickness_curve.has_value()) << t;
+  }
+  const SpeedCurve& speed = *header.tool_shrink[0]->speed_curve;
+  ASSERT_EQ(speed.lambda1_coefficients.size(), 3u);
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_NEAR(speed.lambda1_coefficients[i], pla.speed_curve->lambda1_coefficients[i],
+                1e-11 * std::abs(pla.speed_curve->lambda1_coefficients[i]));
+  }
+  EXPECT_EQ(speed.min_print_speed, 20);
+  EXPECT_EQ(speed.max_print_speed, 120);
+  EXPECT_EQ(speed.layer_height, 0.2);
+  const ThicknessCurve& thickness = *header.tool_shrink[1]->thickness_curve;
+  const ThicknessCurve& want = *geodesy.thickness_curve;
+  ASSERT_EQ(thickness.lambda1_coefficients.size(), want.lambda1_coefficients.size());
+  for (double h : {want.min_layer_height, 0.2, want.max_layer_height}) {
+    double got_l = 0, want_l = 0;
+    for (size_t i = want.lambda1_coefficients.size(); i-- > 0;) {
+      got_l = got_l * h + thickness.lambda1_coefficients[i];
+      want_l = want_l * h + want.lambda1_coefficients[i];
+    }
+    EXPECT_NEAR(got_l, want_l, 1e-10) << h;
+  }
+
+  // T0's speed curve line garbled: T0 has no model, T1 keeps its own.
+  std::string garbled = text;
+  const size_t at = garbled.find("; T0 speed_curve = lambda1 coefficients ");
+  ASSERT_NE(at, std::string::npos);
+  garbled.insert(at + std::string("; T0 speed_curve = lambda1 coefficients ").size(), "x");
+  const GcodeHeaderInfo bad = read_gcode_header(garbled);
+  ASSERT_EQ(bad.tool_shrink.size(), 2u);
+  EXPECT_FALSE(bad.tool_shrink[0]);
+  EXPECT_TRUE(bad.tool_shrink[1]);
+}
+
 // Without its annotations, flatmorph's G-code still reads: layers by z, heights from them, and
 // each bead's cross-section (width × height) from E.
 TEST(GcodeDepositionRoundTrip, FlatmorphGcodeWithoutAnnotations) {
