@@ -81,6 +81,27 @@ bool is_gcode_path(const std::string& path) {
   return ext == ".gcode" || ext == ".gco" || ext == ".g" || ext == ".nc" || ext == ".bgcode";
 }
 
+// ", N faces the file does not print left out", ", M faces in loose pieces left out ...", or
+// nothing: what of the plate mesh the simulation leaves out, and why.
+std::string left_out(const DepositedPlate& plate, bool given_mesh, Eigen::Index kept) {
+  std::string said;
+  const int unprinted = plate.removed_faces - plate.loose_faces;
+  if (unprinted > 0) {
+    said +=
+        fmt::format(", {} faces the file does not print left out{}", unprinted,
+                    given_mesh && unprinted > kept ? " (a sparse lattice? lower --min-cover)" : "");
+  }
+  if (plate.loose_faces > 0) {
+    said += fmt::format(
+        ", {} faces in pieces apart from the largest left out (they would float free){}",
+        plate.loose_faces,
+        given_mesh ? ": the plate mesh is in several pieces; leave out --plate to mesh the file's "
+                     "footprint as one"
+                   : "");
+  }
+  return said;
+}
+
 // The materials of the file's tools: --material A[,B] when given, else those its header names
 // (flatmorph's own files do), else the paper's PLA.
 std::vector<Material> tool_materials(const SimulateOptions& o, const GcodeHeaderInfo& header,
@@ -196,13 +217,8 @@ int run_simulate_gcode(const SimulateOptions& o, const GlobalOptions& global) {
         o.plate_mesh ? *o.plate_mesh
                      : fmt::format("the first layer's footprint at {} mm", o.resolution_mm),
         plate.plate.rows(), plate.F.rows(),
-        p.plate.removed_faces > 0
-            ? fmt::format(", {} faces the file does not print left out{}", p.plate.removed_faces,
-                          o.plate_mesh && p.plate.removed_faces > plate.F.rows()
-                              ? " (a sparse lattice? lower --min-cover)"
-                              : "")
-            : std::string(),
-        describe_stack(plate.stack), materials_from);
+        left_out(p.plate, o.plate_mesh.has_value(), plate.F.rows()), describe_stack(plate.stack),
+        materials_from);
     if (o.plate_mesh) {
       fmt::print("placed at bed = plate + ({:.3f}, {:.3f}) mm ({})\n", p.plate_to_bed.x(),
                  p.plate_to_bed.y(),
@@ -243,7 +259,8 @@ int run_simulate_gcode(const SimulateOptions& o, const GlobalOptions& global) {
   metrics["faces"] = plate.F.rows();
   metrics["layers"] = plate.stack.num_layers();
   metrics["beads"] = p.num_beads;
-  metrics["unprinted_faces"] = p.plate.removed_faces;
+  metrics["unprinted_faces"] = p.plate.removed_faces - p.plate.loose_faces;
+  metrics["loose_faces"] = p.plate.loose_faces;
   metrics["newton_iterations"] = p.result.iterations;
   metrics["converged"] = p.result.converged;
   metrics["t_read_s"] = p.read_seconds;

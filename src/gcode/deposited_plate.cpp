@@ -422,6 +422,7 @@ DepositedPlate deposited_plate(const GcodeDeposition& deposition, const Eigen::M
   for (Eigen::Index f = 0; f < num_faces; ++f) {
     if (keep[f]) kept_faces.push_back(static_cast<int>(f));
   }
+  int loose_faces = 0;
   if (kept_faces.empty()) {
     throw UserError(ErrorCategory::kFormat,
                     fmt::format("{}: no bead of the file lies on the plate; check that the plate "
@@ -440,11 +441,13 @@ DepositedPlate deposited_plate(const GcodeDeposition& deposition, const Eigen::M
     for (size_t i = 0; i < kept_faces.size(); ++i) {
       if (component(i) == largest) in_largest.push_back(kept_faces[i]);
     }
+    loose_faces = static_cast<int>(kept_faces.size() - in_largest.size());
     kept_faces = std::move(in_largest);
   }
 
   DepositedPlate out;
   out.removed_faces = static_cast<int>(num_faces - kept_faces.size());
+  out.loose_faces = loose_faces;
   std::vector<int> new_vertex(V.rows(), -1);
   std::vector<int> kept_vertices;
   Eigen::MatrixXi kept_F(kept_faces.size(), 3);

@@ -72,12 +72,15 @@ FootprintMesh footprint_plate(const GcodeDeposition& deposition, const std::stri
 // to the calibrated range), and the bilayer gradient delta_lambda1 spread over each face's
 // thickness of that material as the Shrink & Morph stack builder does (shrink_morph_layer_stack),
 // so a file printed from a Shrink & Morph design gives back that design's stack. Faces no layer
-// covers are removed (and the vertices only they used); `removed_faces` counts them. Throws
+// covers are removed (and the vertices only they used), and so are those outside the largest
+// edge-connected piece of the rest (it would float free); `removed_faces` counts both. Throws
 // UserError naming `source` when a tool has no material or nothing covers the plate.
 struct DepositedPlate {
   PlateDesign design;
   std::vector<DepositedLayer> layers;  // on the kept faces
   int removed_faces = 0;
+  // Of those, the faces printed on but not joined to the largest piece (a plate of loose pieces).
+  int loose_faces = 0;
   Eigen::VectorXi kept_faces;     // index of each kept face in the F given
   Eigen::VectorXi kept_vertices;  // index of each kept vertex in the V given
 };

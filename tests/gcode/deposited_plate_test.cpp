@@ -110,6 +110,25 @@ TEST(DepositedPlate, PartialLayersLeaveTheirFacesUncovered) {
   }
 }
 
+// A plate mesh of two pieces apart, both printed on: the larger is the plate, the smaller would
+// float free and is left out, counted apart from faces the file does not print.
+TEST(DepositedPlate, OfAPlateInPiecesTheLargestIsKeptAndTheRestCountedAsLoose) {
+  const testing::TestPlate big = testing::rectangle_plate(20, 10, 20, 10);  // 400 faces
+  const testing::TestPlate small = testing::rectangle_plate(4, 4, 4, 4);    // 32 faces
+  testing::TestPlate plate;
+  plate.V.resize(big.V.rows() + small.V.rows(), 2);
+  plate.V << big.V, small.V.rowwise() + Eigen::RowVector2d(-20, 0);  // x in [-22, -18]
+  plate.F.resize(big.F.rows() + small.F.rows(), 3);
+  plate.F << big.F, small.F.array() + static_cast<int>(big.V.rows());
+  GcodeDeposition d;
+  add_hatch(d, std::numbers::pi / 2, 30, 0, 0.2, 0.2);
+  const DepositedPlate p =
+      deposited_plate(d, plate.V, plate.F, {load_material("pla-paper")}, "test");
+  EXPECT_EQ(p.loose_faces, small.F.rows());
+  EXPECT_EQ(p.removed_faces, small.F.rows());
+  EXPECT_EQ(p.design.F.rows(), big.F.rows());
+}
+
 // A lattice: lines 0.4 mm wide every 2.5 mm, along y in layer 1 and along x in layer 2. Each face
 // a line crosses gets a layer as thick as the line's bead (not its volume smeared over the face),
 // covering the share of the face under it; the shares add up to the lines' area.
