@@ -50,6 +50,7 @@ struct OrigamiCliOptions {
   double actuator_speed = 150;
   double actuator_width = 0;
   double flat_angle_deg = 1;
+  bool case_b_hinges = false;
   bool simulate = false;
   double mesh_edge_mm = 1.5;
   int fit_hinges = 0;  // rounds
@@ -153,6 +154,7 @@ int run_origami(const OrigamiCliOptions& o, const GlobalOptions& global) {
   options.actuator_speed = o.actuator_speed;
   options.actuator_width = o.actuator_width;
   options.flat_angle = o.flat_angle_deg * kDegree;
+  options.case_b_hinges = o.case_b_hinges;
   options.print.line_width = printer.nozzle_diameter;
   // The sheets go on the bed with a margin for the skirt and the primes.
   const double margin = 10;
@@ -369,6 +371,7 @@ int run_origami(const OrigamiCliOptions& o, const GlobalOptions& global) {
   j["actuator_speed_mm_s"] = o.actuator_speed;
   j["actuator_width_mm"] = o.actuator_width;
   j["flat_angle_deg"] = o.flat_angle_deg;
+  j["case_b_hinges"] = o.case_b_hinges;
   j["hinge_curve"] = design.curve.calibrated ? "calibrated" : "uncalibrated default";
   if (hinge_fit) {
     std::vector<double> worst;
@@ -560,6 +563,11 @@ Command make_origami_command(CLI::App& app, const GlobalOptions& global) {
   sub->add_option("--flat-angle", o->flat_angle_deg,
                   "Folds of less than this many degrees print no actuator")
       ->capture_default_str();
+  sub->add_flag("--case-b-hinges", o->case_b_hinges,
+                "A mesh's valleys may print as case B hinges (TPU on the bed) though the hinge "
+                "curve is uncalibrated: fewer nets, but such a hinge folds less than the curve "
+                "promises once longer than wide, and each is named in a warning (default: they "
+                "are cut, and every hinge is case A)");
   sub->add_flag("--simulate", o->simulate,
                 "Fold each printed sheet with the shared simulator (faces and actuators meshed as "
                 "one plate with the layers printed there, started from the design), once from the "

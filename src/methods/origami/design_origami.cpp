@@ -329,6 +329,29 @@ void check_against_solid(OrigamiDesign& design) {
   }
 }
 
+// With the uncalibrated curve, a case B actuator folds less than promised once its hinge is
+// longer than it is wide (docs/origami.md): each sheet that prints some says which.
+void warn_of_case_b(OrigamiDesign& design) {
+  if (design.curve.calibrated) return;
+  for (const OrigamiSheet& sheet : design.sheets) {
+    std::vector<std::string> weak;  // "3-4": face numbers from 1, as net.svg shows them
+    for (const HingeDesign& hinge : sheet.hinges) {
+      const Crease& crease = sheet.pattern.creases[hinge.crease];
+      if (!hinge.pla_on_bed) {
+        weak.push_back(fmt::format("{}-{}", crease.left + 1, crease.right + 1));
+      }
+    }
+    if (weak.empty()) continue;
+    design.warnings.push_back(fmt::format(
+        "{}: {} print{} case B (TPU on the bed; between faces {}): with the uncalibrated hinge "
+        "curve a case B actuator folds less than promised once its hinge is longer than it is "
+        "wide (it curls along the hinge); calibrate the hinges ('flatmorph calibrate print "
+        "--hinge-sheet') or check them with --simulate",
+        sheet.pattern.name, weak.size() == 1 ? "1 hinge" : fmt::format("{} hinges", weak.size()),
+        weak.size() == 1 ? "s" : "", fmt::join(weak, ", ")));
+  }
+}
+
 }  // namespace
 
 LayerStack printed_sheet_stack(const std::vector<OrigamiSheet>& sheets,
@@ -484,7 +507,7 @@ OrigamiDesign design_origami(const Polyhedron& solid, const OrigamiOptions& opti
   // polyhedron of the paper does (Fig. 10f).
   UnfoldOptions unfold_options = options.unfold;
   const double mid = 0.5 * (design.curve.min_speed + design.curve.max_speed);
-  unfold_options.minority_weight = design.curve.calibrated
+  unfold_options.minority_weight = design.curve.calibrated || options.case_b_hinges
                                        ? std::min(1.0, hinge_curvature(design.curve, mid, false) /
                                                            hinge_curvature(design.curve, mid, true))
                                        : 0.0;
@@ -521,11 +544,13 @@ OrigamiDesign design_origami(const Polyhedron& solid, const OrigamiOptions& opti
       weight = weight < 1 ? 0 : 1e-3;
     }
   }
-  // Cut apart into loose faces, the solid would no longer fold itself: below that share of its
-  // hinges, the first tree is actuated and refused with the scale that saves it.
-  size_t hinges = 0;
+  // Cut apart into loose faces, the solid would no longer fold itself: below that share of the
+  // first tree's hinges (those the case policy above leaves), the first tree is actuated and
+  // refused with the scale that saves it.
+  size_t hinges = 0, first_hinges = 0;
   for (const OrigamiSheet& sheet : prepared) hinges += sheet.hinges.size();
-  if (hinges < options.min_hinge_share * (solid.faces.size() - 1)) {
+  for (const OrigamiSheet& sheet : first_tree) first_hinges += sheet.hinges.size();
+  if (hinges < options.min_hinge_share * first_hinges) {
     prepared = std::move(first_tree);
     design.unfolding = std::move(first_unfolding);
   }
@@ -538,6 +563,7 @@ OrigamiDesign design_origami(const Polyhedron& solid, const OrigamiOptions& opti
         solid.faces.size(), unfolding.nets.size()));
   }
   make_sheets(std::move(prepared), options, design);
+  warn_of_case_b(design);
 
   design.solid = solid;
   check_against_solid(design);
@@ -603,24 +629,7 @@ OrigamiDesign design_origami_pattern(const CreasePattern& pattern, const Origami
         "apart: the drawn angles do not close around a vertex",
         pattern.name, design.sheets[0].loop_closure));
   }
-  if (!design.curve.calibrated) {
-    const OrigamiSheet& sheet = design.sheets[0];
-    std::vector<std::string> weak;  // "faces 3-4": face numbers from 1, as net.svg shows them
-    for (const HingeDesign& hinge : sheet.hinges) {
-      const Crease& crease = sheet.pattern.creases[hinge.crease];
-      if (!hinge.pla_on_bed)
-        weak.push_back(fmt::format("{}-{}", crease.left + 1, crease.right + 1));
-    }
-    if (!weak.empty()) {
-      design.warnings.push_back(fmt::format(
-          "{}: {} print{} case B (TPU on the bed; between faces {}): with the uncalibrated "
-          "hinge curve a case B actuator folds less than promised once its hinge is longer than "
-          "it is wide (it curls along the hinge); calibrate the hinges ('flatmorph calibrate "
-          "print --hinge-sheet') or check them with --simulate",
-          pattern.name, weak.size() == 1 ? "1 hinge" : fmt::format("{} hinges", weak.size()),
-          weak.size() == 1 ? "s" : "", fmt::join(weak, ", ")));
-    }
-  }
+  warn_of_case_b(design);
   design.times.total = seconds_since(start);
   return design;
 }

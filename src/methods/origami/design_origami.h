@@ -37,11 +37,16 @@ struct OrigamiOptions {
   // Folds of less than this print no actuator (the faces stay joined flat), rad.
   double flat_angle = 1.0 * 3.14159265358979323846 / 180;
   UnfoldOptions unfold;
+  // With the uncalibrated hinge curve the tree cuts every hinge that would print case B (its
+  // actuator folds less than the curve promises on a hinge longer than it is wide): true lets it
+  // keep them, only preferring to cut them as a calibrated curve does (fewer nets; each sheet
+  // with case B hinges names them in a warning).
+  bool case_b_hinges = false;
   // How many times a solid is unfolded again when its net cannot print (a face its trims eat,
   // pieces that overlap once shifted), each time cutting the hinges at fault.
   int retrees = 40;
-  // ... as long as the nets keep this share of the F − 1 hinges a single net has; else the first
-  // tree's problem is refused.
+  // ... as long as the nets keep this share of the first tree's hinges (F − 1 for a single net
+  // that cuts no valley); else the first tree's problem is refused.
   double min_hinge_share = 0.75;
   ActuateOptions actuate;
   OrigamiPrintSettings print;

@@ -99,6 +99,34 @@ TEST(DesignOrigami, TheLowPolyBunnyUnfoldsIntoNetsThatPrintAndFoldBack) {
   EXPECT_GE(hinges, 0.75 * (bunny.faces.size() - 1));
 }
 
+// Allowed case B hinges, the bunny's tree keeps some of its valleys (fewer cuts, never more nets)
+// and every sheet that prints one names it.
+TEST(DesignOrigami, WithCaseBHingesAllowedTheBunnyKeepsValleysAndNamesThem) {
+  OrigamiOptions options = default_options();
+  options.room = {340, 340};
+  const Polyhedron bunny = origami_example("bunny", 70);
+  const OrigamiDesign cut = design_origami(bunny, options);
+  options.case_b_hinges = true;
+  const OrigamiDesign kept = design_origami(bunny, options);
+  EXPECT_LE(kept.sheets.size(), cut.sheets.size());
+  int case_b = 0;
+  for (const OrigamiSheet& sheet : kept.sheets) {
+    int here = 0;
+    for (const HingeDesign& hinge : sheet.hinges) here += !hinge.pla_on_bed;
+    case_b += here;
+    if (here == 0) continue;
+    const std::string said =
+        sheet.pattern.name + ": " +
+        (here == 1 ? std::string("1 hinge prints") : fmt::format("{} hinges print", here)) +
+        " case B";
+    EXPECT_TRUE(std::any_of(kept.warnings.begin(), kept.warnings.end(), [&](const std::string& w) {
+      return w.starts_with(said);
+    })) << said;
+  }
+  EXPECT_GT(case_b, 0);
+  EXPECT_LT(kept.sharp_error_pct, 0.5);
+}
+
 // A drawn pattern keeps its creases: its valleys print case B, and with the uncalibrated curve
 // (which promises such hinges more than they fold once longer than wide) the design says which;
 // calibrated, it trusts the curve and says nothing.
