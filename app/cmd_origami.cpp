@@ -495,6 +495,20 @@ int run_origami(const OrigamiCliOptions& o, const GlobalOptions& global) {
         design.sharp_error_pct, design.curved_plane_error_pct,
         design.curve.calibrated ? "calibrated" : "uncalibrated default");
   }
+  if (!simulated.empty()) {
+    const double worst = m["sim_hinge_error_max_rad"].get<double>() / kDegree;
+    fmt::print(
+        "simulated (the shared simulator, from the design's layers{}): the worst hinge "
+        "{:.1f}° off its fold{}{}\n",
+        gcode_angles.empty() ? "" : " and from the G-code", worst,
+        gcode_angles.empty()
+            ? std::string()
+            : fmt::format(", {:.1f}° from the G-code",
+                          m["sim_gcode_hinge_error_max_rad"].get<double>() / kDegree),
+        worst > kHingeFitTolerance / kDegree && !hinge_fit
+            ? "; --fit-hinges N corrects the widths against it"
+            : "");
+  }
   if (solid_print && run.print) {
     fmt::print(
         "the solid itself ({}): {:.0f} min, {:.0f} mm of filament; the sheet saves {:.0f} % "

@@ -76,6 +76,32 @@ TEST(CliOrigami, TheCubeWritesTheRunFolderAndAGcodeThatPassesTheCheck) {
   EXPECT_EQ(k.at("sheets").at(0).at("faces").get<int>(), 6);
 }
 
+// --simulate judges the sheet with the shared simulator, from its layers and from its G-code:
+// each hinge's angles in design.json, the worst in the summary (two 30 mm faces and a 90°
+// mountain: 1.3° off from the layers, 4.4° from the G-code, whose bonding margins bend too).
+TEST(CliOrigami, SimulateJudgesEachHingeFromTheLayersAndFromTheGcode) {
+  const std::filesystem::path scratch = testing::scratch_dir();
+  std::ofstream(scratch / "two.svg")
+      << ("<svg xmlns='http://www.w3.org/2000/svg' width='60mm' height='30mm' viewBox='0 0 60 30'>"
+          "<polygon points='0,0 60,0 60,30 0,30' stroke='#000000' fill='none'/>"
+          "<line x1='30' y1='0' x2='30' y2='30' stroke='#ff0000' data-fold-angle='-90'/></svg>");
+  const auto r = run_cli({"origami", (scratch / "two.svg").string(), "--simulate", "--mesh-edge",
+                          "2", "--no-slicer", "-o", (scratch / "two").string()});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("simulated (the shared simulator, from the design's layers and from the "
+                       "G-code): the worst hinge "),
+            std::string::npos)
+      << r.out;
+  std::ifstream in(scratch / "two" / "design.json");
+  const nlohmann::json j = nlohmann::json::parse(in);
+  const nlohmann::json& hinge = j.at("sheets").at(0).at("hinges").at(0);
+  EXPECT_NEAR(hinge.at("simulated_angle_deg").get<double>(), -90, 5);
+  EXPECT_NEAR(hinge.at("gcode_simulated_angle_deg").get<double>(), -90, 5);
+  EXPECT_NEAR(j.at("metrics").at("sim_hinge_error_max_rad").get<double>(),
+              std::abs(hinge.at("simulated_angle_deg").get<double>() + 90) * 3.14159265358979 / 180,
+              1e-9);
+}
+
 TEST(CliOrigami, AOneToolPrinterPausesForTheTpuAndThePrintPassesTheCheck) {
   const std::filesystem::path dir = testing::scratch_dir() / "octahedron-mk4";
   const auto r = run_cli({"origami", "--example", "octahedron", "--printer", "prusa-mk4",
