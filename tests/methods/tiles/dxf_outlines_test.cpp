@@ -418,7 +418,7 @@ TEST(DxfOutlines, OpenChainNamesTheGap) {
             "and save again");
   // An open LWPOLYLINE alone.
   std::vector<std::string> open = lwpolyline({0, 0, 10, 0, 10, 10});
-  open[5] = "0";
+  open[5] = '0';  // a char: GCC 12 misreads the C-string assignment (-Wrestrict)
   EXPECT_NE(message_of(dxf(open)).find("the outline is open: the LWPOLYLINE ends at (0.0000, "
                                        "0.0000) mm and no other line or arc ends within 0.001 "
                                        "mm of it (the nearest loose end is 14.14 mm away, at "
