@@ -3,7 +3,9 @@
 // sheet, Fig. 6-7), then fit a material file to their measurements. Speeds in mm/s.
 // docs/calibration.md
 #include <fmt/core.h>
+
 #include <fmt/ranges.h>
+#include <CLI/CLI.hpp>
 
 #include <algorithm>
 #include <cmath>

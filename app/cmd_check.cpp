@@ -1,6 +1,7 @@
 // flatmorph check: the G-code safety check (the one every written file passes) on any G-code.
 #include <fmt/core.h>
 
+#include <CLI/CLI.hpp>
 #include <filesystem>
 #include <fstream>
 #include <optional>

@@ -1,8 +1,11 @@
 // flatmorph example: write a built-in target surface to a file.
 #include <fmt/core.h>
 
+#include <CLI/CLI.hpp>
+
 #include "commands.h"
 #include "common/error.h"
+#include "examples/example_catalog.h"
 #include "examples/examples.h"
 #include "mesh/io.h"
 
@@ -17,8 +20,18 @@ struct ExampleOptions {
 
 int run_example(const ExampleOptions& options, const GlobalOptions& global) {
   if (options.list) {
-    for (const ExampleInfo& info : example_list()) {
-      fmt::print("{:<12} {}\n", info.name, info.description);
+    // The target surfaces this command writes, then the other methods' inputs.
+    for (const ExampleEntry& entry : example_catalog()) {
+      if (entry.method == "shrink_morph") fmt::print("{:<12} {}\n", entry.name, entry.description);
+    }
+    std::string command;
+    for (const ExampleEntry& entry : example_catalog()) {
+      if (entry.method == "shrink_morph") continue;
+      if (entry.command != command) {
+        command = entry.command;
+        fmt::print("\nflatmorph {} --example NAME:\n", command);
+      }
+      fmt::print("{:<12} {}\n", entry.name, entry.description);
     }
     return 0;
   }
@@ -49,7 +62,8 @@ Command make_example_command(CLI::App& app, const GlobalOptions& global) {
       "the plate). Every command that takes a mesh also accepts --example NAME directly.");
   sub->add_option("name", options->name, "Example name (see --list)");
   sub->add_option("-o,--output", options->output, "Output mesh file (.obj or .ply)");
-  sub->add_flag("--list", options->list, "List the built-in examples");
+  sub->add_flag("--list", options->list,
+                "List the built-in target surfaces, and the other commands' built-in inputs");
   return {sub, [options, &global] { return run_example(*options, global); }};
 }
 

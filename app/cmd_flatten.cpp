@@ -2,6 +2,7 @@
 // (Shrink & Morph §3.2.1; docs/flatten.md).
 #include <fmt/core.h>
 
+#include <CLI/CLI.hpp>
 #include <cmath>
 #include <filesystem>
 #include <limits>
@@ -25,7 +26,7 @@ namespace {
 constexpr int kMaxFaces = 2'000'000;
 
 struct FlattenCliOptions {
-  MeshInput input;
+  RunInput input;
   double width_mm = std::numeric_limits<double>::quiet_NaN();
   double w_D = 0.0;
   std::string material = "pla-paper";
@@ -63,7 +64,7 @@ int run_flatten(const FlattenCliOptions& options, const GlobalOptions& global) {
   const auto start = Clock::now();
   const std::string source = describe(options.input);
   const PreparedTarget prepared =
-      prepare_target(load_mesh_input(options.input).mesh, source, options.faces);
+      prepare_target(read_target_mesh(options.input).mesh, source, options.faces);
   const Mesh& mesh = prepared.mesh;
   const int input_faces = prepared.input_faces;
   const double prepare_seconds = seconds_since(start);

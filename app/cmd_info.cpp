@@ -1,6 +1,7 @@
 // flatmorph info: what a mesh file holds and whether flatmorph can use it as a target.
 #include <fmt/core.h>
 
+#include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
 #include "commands.h"
@@ -14,7 +15,7 @@ namespace flatmorph::cli {
 namespace {
 
 struct InfoOptions {
-  MeshInput input;
+  RunInput input;
   bool json = false;
 };
 
@@ -22,7 +23,7 @@ int run_info(const InfoOptions& options) {
   const std::string source = describe(options.input);
   MeshFile file;
   try {
-    file = load_mesh_input(options.input);
+    file = read_target_mesh(options.input);
   } catch (const MeshReadError& e) {
     if (options.json) {
       nlohmann::json j = {{"file", source},

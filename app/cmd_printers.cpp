@@ -1,6 +1,7 @@
 // flatmorph printers: the shipped printer profiles, or one of them as JSON to start a custom one.
 #include <fmt/core.h>
 
+#include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
 #include "commands.h"

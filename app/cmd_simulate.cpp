@@ -1,6 +1,7 @@
 // flatmorph simulate: predict the shape a printed plate takes in hot water.
 #include <fmt/core.h>
 
+#include <CLI/CLI.hpp>
 #include <algorithm>
 
 #include <cmath>

@@ -2,6 +2,7 @@
 // G-code for a printer.
 #include <fmt/core.h>
 
+#include <CLI/CLI.hpp>
 #include <filesystem>
 
 #include "commands.h"
@@ -9,8 +10,8 @@
 #include "output_folder.h"
 #include "plate/plate_design.h"
 #include "plate_input.h"
-#include "print_summary.h"
 #include "progress_display.h"
+#include "run/print_summary.h"
 
 namespace flatmorph::cli {
 namespace {
@@ -63,7 +64,7 @@ int run_toolpaths(const ToolpathsOptions& o, const GlobalOptions& global) {
   if (!stack_warning.empty()) fmt::print(stderr, "flatmorph: warning: {}\n", stack_warning);
   if (o.json) fmt::print("{}\n", plan_summary_json(plan, printer).dump(2));
   if (!silent) {
-    print_plan_summary(plan, printer);
+    for (const std::string& line : plan_summary_lines(plan, printer)) fmt::print("{}\n", line);
     fmt::print("wrote {}, {} and {}\n", (out / "plate.gcode").string(),
                (out / "layers/layer_*.svg").string(), (out / "layers/overview.png").string());
   }

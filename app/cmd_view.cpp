@@ -1,6 +1,7 @@
 // flatmorph view: serve the report viewer of a run folder on 127.0.0.1 (opens nothing by itself).
 #include <fmt/core.h>
 
+#include <CLI/CLI.hpp>
 #include <cstdio>
 
 #include "commands.h"

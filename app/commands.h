@@ -3,9 +3,11 @@
 // parse options, call the library and print: no algorithm lives in app/.
 #pragma once
 
-#include <CLI/CLI.hpp>
 #include <functional>
-#include <memory>
+
+namespace CLI {
+class App;
+}
 
 namespace flatmorph::cli {
 
@@ -34,5 +36,6 @@ Command make_origami_command(CLI::App& app, const GlobalOptions& global);
 Command make_calibrate_command(CLI::App& app, const GlobalOptions& global);
 Command make_report_command(CLI::App& app, const GlobalOptions& global);
 Command make_view_command(CLI::App& app, const GlobalOptions& global);
+Command make_help_command(CLI::App& app, const GlobalOptions& global);
 
 }  // namespace flatmorph::cli

@@ -81,7 +81,7 @@ int main(int argc, char** argv) {
       cli::make_design_command(app, global),    cli::make_heightfield_command(app, global),
       cli::make_tiles_command(app, global),     cli::make_origami_command(app, global),
       cli::make_calibrate_command(app, global), cli::make_report_command(app, global),
-      cli::make_view_command(app, global),
+      cli::make_view_command(app, global),      cli::make_help_command(app, global),
   };
 
   try {

@@ -2,11 +2,14 @@
 // --material/--layers options that only a plate without a stack file may take.
 #pragma once
 
-#include <CLI/CLI.hpp>
 #include <optional>
 #include <string>
 
 #include "plate/plate_design.h"
+
+namespace CLI {
+class App;
+}
 
 namespace flatmorph::cli {
 

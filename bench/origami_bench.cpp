@@ -6,6 +6,7 @@
 #include <chrono>
 
 #include "common/error.h"
+#include "examples/origami_examples.h"
 #include "gcode/gcode_writer.h"
 #include "gcode/printer_profile.h"
 #include "material/material.h"

@@ -4,6 +4,7 @@
 
 #include <cmath>
 
+#include "examples/tile_examples.h"
 #include "gcode/gcode_writer.h"
 #include "gcode/printer_profile.h"
 #include "material/material.h"

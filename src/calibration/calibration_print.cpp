@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <cmath>
 #include <nlohmann/json.hpp>
-#include <numbers>
 
 #include "common/error.h"
 #include "common/markup.h"
@@ -129,14 +128,6 @@ void validate(const PrinterProfile& printer, const Material& material,
 
 }  // namespace
 
-Eigen::Vector2d calibration_usable_area(const PrinterProfile& printer, double margin) {
-  if (printer.bed_shape == BedShape::kCircular) {
-    const double side = printer.bed_size.x() / std::numbers::sqrt2 - 2 * margin;
-    return {side, side};
-  }
-  return printer.bed_size - Eigen::Vector2d::Constant(2 * margin);
-}
-
 PathPolyline straight_path(const Eigen::Vector2d& a, const Eigen::Vector2d& b, double z,
                            const SegmentStyle& style) {
   PathPolyline p;
@@ -205,7 +196,7 @@ CalibrationPlan plan_calibration(const PrinterProfile& printer, const Material& 
   }
 
   // A set is a block of samples stacked along y (several columns if the bed is too shallow).
-  const Eigen::Vector2d usable = calibration_usable_area(printer, o.margin);
+  const Eigen::Vector2d usable = usable_bed_area(printer, o.margin);
   const int rows = std::min(
       o.repeats, static_cast<int>(std::floor((usable.y() + o.gap) / (o.width + o.gap) + 1e-9)));
   const int columns = rows > 0 ? (o.repeats + rows - 1) / rows : 0;

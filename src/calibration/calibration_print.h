@@ -97,10 +97,6 @@ int notch_code_bits(int count);
 // A notch slot must be at least this wide (mm) to be seen after shrinking.
 inline constexpr double kMinNotchSlotWidth = 2.0;
 
-// The printable rectangle of the bed less `margin` (mm), centred on the origin: the inscribed
-// square of a round bed.
-Eigen::Vector2d calibration_usable_area(const PrinterProfile& printer, double margin);
-
 // A polyline of one straight extruded segment from a to b at height z (plate coordinates, mm).
 PathPolyline straight_path(const Eigen::Vector2d& a, const Eigen::Vector2d& b, double z,
                            const SegmentStyle& style);

@@ -140,7 +140,7 @@ HingeSheetPlan plan_hinge_sheet(const PrinterProfile& printer, const HingeSheetO
   }
 
   // Rows from the far side of the bed, strips left to right in the order case, speed, width.
-  const Eigen::Vector2d usable = calibration_usable_area(printer, o.margin);
+  const Eigen::Vector2d usable = usable_bed_area(printer, o.margin);
   std::vector<Eigen::Vector2d> corners;  // top left of each strip, from the sheet's top left
   double x = 0, widest = 0;
   int rows = 1;

@@ -22,6 +22,7 @@ struct Bump {
 
 struct Shape {
   std::string name;
+  std::string description;  // at the default size
   std::vector<Bump> bumps;
   double ridge_sigma = 0.0;  // > 0: a crest along x instead of bumps, exp(-y^2 / (2 sigma^2))
 };
@@ -30,10 +31,13 @@ struct Shape {
 // saddles) and checked by the tests at several sizes and resolutions.
 std::vector<Shape> shapes() {
   return {
-      {"hill", {{0.0, 0.0, 1.0, 0.5}}},
-      {"saddle", {{-0.45, 0.0, 1.0, 0.25}, {0.45, 0.0, 1.0, 0.25}}},
+      {"hill", "one round peak at the centre; 160 mm disk, 35 mm high", {{0.0, 0.0, 1.0, 0.5}}},
+      {"saddle",
+       "two equal peaks with a saddle between them; 160 mm disk, 35 mm high",
+       {{-0.45, 0.0, 1.0, 0.25}, {0.45, 0.0, 1.0, 0.25}}},
       // A chain, not a ring, of peaks: three peaks around a point would risk a crater there.
       {"island",
+       "three peaks in a chain, the middle one highest; 160 mm disk, 35 mm high",
        // Peaks as wide as a chain of three allows while each stands more than 2.5 mm above its
        // saddle at the default size: narrower ones (0.15) reach 58 degree slopes and ask more
        // shrink than PLA gives (SCF 2020 §8).
@@ -41,7 +45,7 @@ std::vector<Shape> shapes() {
         {0.0, 0.15, 1.0, 0.18},
         {0.65, -0.08, 0.7, 0.18},
         {0.0, 0.0, 0.3, 0.5}}},
-      {"ridge", {}, 0.25},
+      {"ridge", "a crest four times as long as it is wide; 160 mm disk, 35 mm high", {}, 0.25},
   };
 }
 
@@ -61,6 +65,12 @@ double unscaled_height(const Shape& shape, double x, double y, bool on_boundary)
 }
 
 }  // namespace
+
+std::vector<ExampleInfo> height_field_example_list() {
+  std::vector<ExampleInfo> list;
+  for (const Shape& shape : shapes()) list.push_back({shape.name, shape.description});
+  return list;
+}
 
 std::vector<std::string> height_field_example_names() {
   std::vector<std::string> names;

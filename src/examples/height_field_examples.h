@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "examples/examples.h"
 #include "methods/heightfield/height_field.h"
 
 namespace flatmorph {
@@ -18,7 +19,8 @@ struct HeightFieldExampleOptions {
   double resolution_mm = 2.0;  // the most the rings are apart (radially); the lattice is 6-fold
 };
 
-// "hill", "saddle", "island", "ridge", in that order.
+// "hill", "saddle", "island", "ridge", in that order, with a line each.
+std::vector<ExampleInfo> height_field_example_list();
 std::vector<std::string> height_field_example_names();
 
 // The named height field on a disk footprint meshed in rings (a hexagonal lattice bent onto

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <numbers>
 #include <set>
 #include <sstream>
 #include <stdexcept>
@@ -548,6 +549,14 @@ bool on_bed(const PrinterProfile& printer, const Eigen::Vector2d& p, double tole
   }
   const Eigen::Vector2d half = printer.bed_size / 2;
   return ((p - c).cwiseAbs().array() <= half.array() + tolerance).all();
+}
+
+Eigen::Vector2d usable_bed_area(const PrinterProfile& printer, double margin) {
+  if (printer.bed_shape == BedShape::kCircular) {
+    const double side = printer.bed_size.x() / std::numbers::sqrt2 - 2 * margin;
+    return {side, side};
+  }
+  return printer.bed_size - Eigen::Vector2d::Constant(2 * margin);
 }
 
 const std::vector<GcodePlaceholder>& gcode_placeholders() {

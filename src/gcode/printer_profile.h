@@ -132,6 +132,11 @@ Eigen::Vector2d bed_center(const PrinterProfile& printer);
 // Whether the point (bed coordinates, mm) lies on the printable bed, within `tolerance` mm.
 bool on_bed(const PrinterProfile& printer, const Eigen::Vector2d& p, double tolerance);
 
+// The rectangle (width, depth; mm) that parts placed on the bed may fill, `margin` mm from every
+// edge: the bed less twice the margin, or on a round bed the inscribed square less twice the
+// margin. One rule for every caller that lays parts out.
+Eigen::Vector2d usable_bed_area(const PrinterProfile& printer, double margin);
+
 // A placeholder a template may use, with its meaning.
 struct GcodePlaceholder {
   std::string_view name;

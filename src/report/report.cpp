@@ -391,23 +391,26 @@ std::string report_html(const RunFolder& run) {
   return html;
 }
 
-std::vector<std::filesystem::path> write_report_pictures(const RunFolder& run) {
+std::vector<std::filesystem::path> write_report_pictures(const RunFolder& run, int pixels) {
   std::vector<std::filesystem::path> written;
   if (run.flat) {
     const auto path = run.dir / "plate_theta1.png";
     const PlateDesign& p = *run.flat;
-    write_png(path, encode_png(plate_picture(p.plate, p.F, plate_theta1(p), PlateField::kTheta1)));
+    write_png(path, encode_png(
+                        plate_picture(p.plate, p.F, plate_theta1(p), PlateField::kTheta1, pixels)));
     written.push_back(path);
     const Eigen::VectorXd* theta2 = p.design_fields.find_vertex("theta2");
     if (theta2 && theta2->size() > 0 && theta2->cwiseAbs().maxCoeff() > 0) {
       const auto path2 = run.dir / "plate_theta2.png";
-      write_png(path2, encode_png(plate_picture(p.plate, p.F, *theta2, PlateField::kTheta2)));
+      write_png(path2,
+                encode_png(plate_picture(p.plate, p.F, *theta2, PlateField::kTheta2, pixels)));
       written.push_back(path2);
     }
     const Eigen::VectorXd* shrinkage = p.design_fields.find_face("shrinkage");
     if (shrinkage && shrinkage->size() == p.F.rows()) {
       const auto path3 = run.dir / "plate_shrinkage.png";
-      write_png(path3, encode_png(plate_picture(p.plate, p.F, *shrinkage, PlateField::kShrinkage)));
+      write_png(path3, encode_png(plate_picture(p.plate, p.F, *shrinkage, PlateField::kShrinkage,
+                                                pixels)));
       written.push_back(path3);
     }
   }
@@ -415,14 +418,14 @@ std::vector<std::filesystem::path> write_report_pictures(const RunFolder& run) {
     const Eigen::VectorXd* d = run.simulated->properties.find_vertex("deviation_mm");
     const auto path = run.dir / "predicted.png";
     write_png(path, encode_png(shape_picture(run.simulated->mesh.V, run.simulated->mesh.F,
-                                             d ? *d : Eigen::VectorXd())));
+                                             d ? *d : Eigen::VectorXd(), pixels)));
     written.push_back(path);
   }
   if (run.print && !run.print->toolpath.layers.empty()) {
     PreviewOptions options;
     if (run.flat) options.outline = outline(*run.flat);
     options.travels = false;
-    options.panel_pixels = 300;
+    options.panel_pixels = pixels * 3 / 8;
     options.max_panels = 16;
     const auto path = run.dir / "layers.png";
     write_png(path, overview_png(run.print->toolpath, options));
@@ -432,14 +435,14 @@ std::vector<std::filesystem::path> write_report_pictures(const RunFolder& run) {
 }
 
 std::vector<std::filesystem::path> write_report(const std::filesystem::path& run_dir,
-                                                const std::string& name) {
+                                                const std::string& name, int pixels) {
   RunFolder run = read_run_folder(run_dir);
   if (!name.empty()) run.name = name;
   const std::string html = report_html(run);
   const auto path = run_dir / "report.html";
   write_file_atomically(path, true, [&](std::ostream& out) { out << html; });
   std::vector<std::filesystem::path> written{path};
-  for (auto& p : write_report_pictures(run)) written.push_back(std::move(p));
+  for (auto& p : write_report_pictures(run, pixels)) written.push_back(std::move(p));
   return written;
 }
 

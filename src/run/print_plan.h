@@ -54,8 +54,8 @@ PrintPlan plan_toolpath_print(LayerPaths paths, const Eigen::MatrixXd& plate,
 void write_print_files(const std::filesystem::path& dir, const PrintPlan& plan,
                        const PrinterProfile& printer, const LayerStack& stack);
 
-// The figures of print_plan_summary as JSON: per layer (z, paths, printed and travel mm), totals,
-// print time (s), filament (mm, g), placement on the bed (mm).
+// The figures of plan_summary_lines (print_summary.h) as JSON: per layer (z, paths, printed and
+// travel mm), totals, print time (s), filament (mm, g), placement on the bed (mm).
 nlohmann::ordered_json plan_summary_json(const PrintPlan& plan, const PrinterProfile& printer);
 
 }  // namespace flatmorph

@@ -11,7 +11,6 @@
 #include <stdexcept>
 
 #include "common/error.h"
-#include "methods/origami/bunny.h"
 #include "methods/origami/sheet_layout.h"
 #include "plate/actuator_stack.h"
 #include "plate/layer_stack.h"
@@ -461,25 +460,13 @@ OrigamiPlate origami_plate(const OrigamiDesign& design, const OrigamiOptions& op
   return out;
 }
 
-std::vector<std::string> origami_example_names() {
-  std::vector<std::string> names = polyhedron_example_names();
-  names.push_back("bunny");
-  return names;
-}
-
-Polyhedron origami_example(const std::string& name, int max_faces) {
-  static const std::map<std::string, double> sizes = {
-      {"tetrahedron", 70}, {"cube", 45},    {"octahedron", 64}, {"dodecahedron", 56},
-      {"icosahedron", 66}, {"pyramid", 70}, {"bunny", 160}};
-  const auto size = sizes.find(name);
-  if (size == sizes.end()) {
-    throw UserError(ErrorCategory::kOption,
-                    fmt::format("no built-in solid '{}': choose one of {}", name,
-                                fmt::join(origami_example_names(), ", ")));
+Eigen::MatrixXi bed_faces(const OrigamiPlate& plate, const OrigamiDesign& design, int bed) {
+  const Eigen::VectorXd& sheet_of = *plate.plate.design_fields.find_face("sheet");
+  std::vector<int> rows;
+  for (Eigen::Index t = 0; t < sheet_of.size(); ++t) {
+    if (design.sheets[static_cast<int>(sheet_of(t))].bed == bed) rows.push_back(t);
   }
-  const Polyhedron solid =
-      name == "bunny" ? low_poly_bunny_solid(max_faces) : polyhedron_example(name, 1.0);
-  return scaled_to_size(solid, size->second);
+  return plate.plate.F(rows, Eigen::all);
 }
 
 Polyhedron scaled_to_size(const Polyhedron& solid, double size) {

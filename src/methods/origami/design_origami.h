@@ -132,13 +132,9 @@ struct OrigamiPlate {
 OrigamiPlate origami_plate(const OrigamiDesign& design, const OrigamiOptions& options,
                            int arc_steps = 8);
 
-// The built-in solids of `flatmorph origami --example`: polyhedron_example_names() and "bunny"
-// (low_poly_bunny_solid with at most `max_faces` faces), each at a size (the longest side, mm)
-// where every face keeps some of itself after its trims with the default hinge curve, the Platonic
-// solids' nets fit a 220 mm bed and the bunny's (160 mm tall, six nets) the default printer's
-// 360 mm one. Throws UserError (kOption) listing them for another name.
-std::vector<std::string> origami_example_names();
-Polyhedron origami_example(const std::string& name, int max_faces);
+// The rows of plate.plate.F (origami_plate's) whose sheet goes on `bed` (from 0): the faces one
+// print job prints.
+Eigen::MatrixXi bed_faces(const OrigamiPlate& plate, const OrigamiDesign& design, int bed);
 
 // The solid scaled about its centre so that its bounding box's longest side is `size` mm.
 Polyhedron scaled_to_size(const Polyhedron& solid, double size);

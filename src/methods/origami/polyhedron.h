@@ -22,12 +22,6 @@ struct PolyhedronEdge {
   int left = 0, right = -1;
 };
 
-// The built-in solids, every edge `edge_mm` long: tetrahedron, cube, octahedron, dodecahedron,
-// icosahedron, and a square pyramid whose triangles are equilateral.
-std::vector<std::string> polyhedron_example_names();
-// Throws UserError (kOption) naming the examples for any other name or a non-positive edge.
-Polyhedron polyhedron_example(const std::string& name, double edge_mm);
-
 // Every edge once. Throws UserError (kTopology) naming the faces when an edge has three or more
 // faces or two faces run it the same way (the faces are not consistently oriented), and (kGeometry)
 // for a face of fewer than three vertices or a vertex index out of range.
@@ -40,5 +34,8 @@ Eigen::Vector3d face_normal(const Polyhedron& solid, int f);
 // edges_foldAngle for a net laid outward side up: negative (a mountain) where the solid is convex,
 // positive (a valley) where it is concave; 0 on the border. rad, in [−π, π].
 double fold_angle(const Polyhedron& solid, const PolyhedronEdge& edge);
+
+// The solid as a Wavefront OBJ of its polygon faces (MeshLab and Blender keep the polygons), mm.
+std::string polyhedron_obj(const Polyhedron& solid);
 
 }  // namespace flatmorph

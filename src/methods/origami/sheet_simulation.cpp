@@ -128,6 +128,18 @@ SheetSimulation simulate_sheet(const OrigamiDesign& design, int index,
   return out;
 }
 
+double worst_hinge_error(const OrigamiDesign& design,
+                         const std::vector<std::vector<double>>& angles) {
+  double worst = 0;
+  for (size_t i = 0; i < angles.size(); ++i) {
+    for (size_t a = 0; a < angles[i].size(); ++a) {
+      worst = std::max(
+          worst, std::abs(angles[i][a] - design.sheets[i].sheet.actuators[a].hinge.fold_angle));
+    }
+  }
+  return worst;
+}
+
 HingeFit fit_hinges_to_simulation(const OrigamiDesign& design, const OrigamiOptions& options,
                                   int max_rounds, double tolerance, double max_edge) {
   if (max_rounds < 1) throw std::invalid_argument("fit_hinges_to_simulation: at least one round");

@@ -41,6 +41,12 @@ std::vector<double> hinge_fold_angles(const ActuatedSheet& sheet, const Eigen::M
 SheetSimulation simulate_sheet(const OrigamiDesign& design, int index,
                                const OrigamiOptions& options, double max_edge);
 
+// The largest |angle − designed angle| over every hinge of every sheet of `design`, rad:
+// angles[i][a] is actuator a of sheet i (hinge_fold_angles' order), simulated from the layers or
+// from the G-code.
+double worst_hinge_error(const OrigamiDesign& design,
+                         const std::vector<std::vector<double>>& angles);
+
 // The design's actuators widened or narrowed until the shared simulator folds every printed sheet
 // as designed (the hinge curve is a strip's alone: on a whole sheet the faces' own shrink holds
 // some hinges back). Each round simulates every sheet (simulate_sheet at `max_edge`), scales each

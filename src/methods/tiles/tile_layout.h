@@ -63,16 +63,6 @@ TileLayout load_tile_layout(const std::filesystem::path& path, const TileSpec& d
 // naming the file when it cannot be opened.
 std::string read_layout_file(const std::filesystem::path& path);
 
-// "dome", "spin-top", "coaster", "bracelet", in that order.
-std::vector<std::string> tile_example_names();
-
-// The built-in layouts: dome (one 40 mm disc rising into a spherical cap 12 mm high), spin-top
-// (one 60 mm disc rising into a cone, CHI 2019 Fig. 11a), coaster (3 x 3 squares of 25 mm joined
-// edge to edge, rising into 5 mm cones to alternate sides so that the sheet stays flat, Fig. 15),
-// bracelet (a strip of six 20 mm hexagons joined by a lattice, Fig. 16). Throws UserError (kOption)
-// for an unknown name, listing the names.
-TileLayout tile_layout_example(const std::string& name);
-
 // A circle of `radius` (mm) around `center` as a polygon whose chords stray at most
 // `chord_tolerance` mm from it (at least 24 sides), counter-clockwise.
 Eigen::MatrixX2d circle_polygon(const Eigen::Vector2d& center, double radius,

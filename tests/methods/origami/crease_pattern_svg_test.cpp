@@ -15,6 +15,7 @@
 #include <regex>
 
 #include "common/error.h"
+#include "examples/origami_examples.h"
 #include "mesh/polygon.h"
 #include "methods/origami/net_svg.h"
 #include "methods/origami/unfold.h"

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "examples/origami_examples.h"
 #include "mesh/polygon.h"
 
 namespace flatmorph {

@@ -10,6 +10,7 @@
 #include <numbers>
 
 #include "common/error.h"
+#include "examples/origami_examples.h"
 #include "material/material.h"
 #include "methods/origami/crease_pattern_svg.h"
 #include "methods/origami/sheet_layout.h"

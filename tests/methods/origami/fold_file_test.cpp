@@ -10,6 +10,7 @@
 #include <numbers>
 #include <stdexcept>
 
+#include "examples/origami_examples.h"
 #include "methods/origami/unfold.h"
 
 namespace flatmorph {

@@ -12,6 +12,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "examples/origami_examples.h"
 #include "mesh/polygon.h"
 #include "methods/origami/actuators.h"
 #include "methods/origami/origami_fixtures.h"

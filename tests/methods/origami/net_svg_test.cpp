@@ -12,6 +12,7 @@
 #include <regex>
 
 #include "common/svg_drawing.h"
+#include "examples/origami_examples.h"
 #include "mesh/polygon.h"
 #include "methods/origami/crease_pattern_svg.h"
 #include "methods/origami/unfold.h"

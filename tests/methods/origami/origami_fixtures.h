@@ -10,6 +10,7 @@
 #include <tuple>
 #include <vector>
 
+#include "examples/origami_examples.h"
 #include "methods/origami/actuators.h"
 #include "methods/origami/crease_pattern.h"
 

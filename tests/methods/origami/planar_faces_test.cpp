@@ -16,7 +16,8 @@
 #include <set>
 
 #include "common/error.h"
-#include "methods/origami/bunny.h"
+#include "examples/bunny.h"
+#include "examples/origami_examples.h"
 #include "methods/origami/unfold.h"
 
 namespace flatmorph {

@@ -14,6 +14,7 @@
 #include <numbers>
 #include <string>
 
+#include "examples/origami_examples.h"
 #include "gcode/printer_profile.h"
 #include "material/material.h"
 #include "methods/origami/crease_pattern_svg.h"

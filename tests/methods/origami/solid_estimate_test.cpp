@@ -1,6 +1,7 @@
 // What printing the solid would cost (issue 27, item 7): its volume and area in closed form, the
 // stated estimate, and a slicer's figures read from its G-code comments.
 #include "methods/origami/solid_estimate.h"
+#include "examples/origami_examples.h"
 
 #include <gtest/gtest.h>
 

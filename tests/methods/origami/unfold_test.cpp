@@ -10,6 +10,7 @@
 #include <numbers>
 
 #include "common/error.h"
+#include "examples/origami_examples.h"
 
 namespace flatmorph {
 namespace {

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "examples/tile_examples.h"
 #include "gcode/bead_collision.h"
 #include "gcode/gcode_check.h"
 #include "gcode/gcode_replay.h"

@@ -1,4 +1,4 @@
-#include "methods/origami/bunny.h"
+#include "examples/bunny.h"
 
 #include <Eigen/Geometry>
 #include <algorithm>
