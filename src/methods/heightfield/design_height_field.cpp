@@ -2,18 +2,14 @@
 
 #include <fmt/core.h>
 
-#include <chrono>
 #include <cmath>
 
 #include "common/error.h"
+#include "common/stopwatch.h"
 #include "methods/heightfield/shrinkage_field.h"
 
 namespace flatmorph {
 namespace {
-
-double seconds_since(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
 
 // Per face, the mean of its corners' σ: what the optimization prints (optimize_shrinkage.h).
 Eigen::VectorXd corner_mean(const Eigen::MatrixXi& F, const Eigen::VectorXd& vertex_values) {
@@ -31,12 +27,12 @@ HeightFieldDesign design_height_field(const HeightField& field, const std::strin
                                       const HeightFieldDesignOptions& options) {
   const Material& material = options.material;
   const ThicknessCurve& curve = require_thickness_curve(material);
-  const auto start = std::chrono::steady_clock::now();
+  const auto start = Clock::now();
   const ProgressCallback& progress = options.progress;
   HeightFieldDesign design;
 
   report_progress(progress, {"mesh", 0, 0, NAN, "isolines and gradient lines"});
-  auto t = std::chrono::steady_clock::now();
+  auto t = Clock::now();
   design.mesh = isoline_mesh(field, options.meshing, source);
   design.times.meshing = seconds_since(t);
   const IsolineMesh& mesh = design.mesh;
@@ -56,14 +52,14 @@ HeightFieldDesign design_height_field(const HeightField& field, const std::strin
     };
   }
   report_progress(progress, {"flatten", 0, 0, NAN, "local/global steps with relocations"});
-  t = std::chrono::steady_clock::now();
+  t = Clock::now();
   design.sheet = flatten_sheet(mesh, flattening);
   design.times.flattening = seconds_since(t);
   const Eigen::MatrixXd& plate = design.sheet.plate;
 
   report_progress(progress,
                   {"simulate", 0, 0, NAN, "the flattening's shrink, from the flat sheet"});
-  t = std::chrono::steady_clock::now();
+  t = Clock::now();
   design.flattened_vertex_shrinkage =
       initial_vertex_shrinkage(mesh, plate, design.sheet.edge_shrinkage, material);
   const Eigen::VectorXd direction = deposition_directions(mesh, plate);
@@ -81,7 +77,7 @@ HeightFieldDesign design_height_field(const HeightField& field, const std::strin
   design.prediction = design.flattened_prediction;
   if (options.optimize) {
     report_progress(progress, {"optimize shrink", 0, 0, NAN, "adjoint Gauss-Newton"});
-    t = std::chrono::steady_clock::now();
+    t = Clock::now();
     ShrinkageProblem problem;
     problem.plate = plate;
     problem.F = mesh.F;
@@ -104,7 +100,7 @@ HeightFieldDesign design_height_field(const HeightField& field, const std::strin
 
     // The judge: the printed stack simulated from the flat sheet again, as it will rise.
     report_progress(progress, {"simulate", 0, 0, NAN, "the optimized shrink, from the flat sheet"});
-    t = std::chrono::steady_clock::now();
+    t = Clock::now();
     HeightFieldPlate optimized_plate =
         heightfield_plate(plate, mesh.F, direction, design.optimization.face_shrinkage, material);
     RisePrediction optimized_prediction =
@@ -121,7 +117,7 @@ HeightFieldDesign design_height_field(const HeightField& field, const std::strin
 
   if (options.paths) {
     report_progress(progress, {"trajectories", 0, 0, NAN, "continuous paths along the isolines"});
-    t = std::chrono::steady_clock::now();
+    t = Clock::now();
     design.paths =
         continuous_paths(mesh, plate, design.vertex_shrinkage, material, options.path_options);
     design.times.paths = seconds_since(t);
