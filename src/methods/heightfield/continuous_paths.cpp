@@ -764,17 +764,17 @@ ContinuousPaths continuous_paths(const IsolineMesh& mesh, const Eigen::MatrixXd&
                     "at least one isoline");
   }
 
-  // --- Layer heights (§6.4: θ from σ on the thickness curve, clamped to its reachable range).
-  const auto [least, most] = reachable_shrinkage(curve);
+  // --- Layer heights (§6.4: θ from σ on the thickness curve, clamped to its reachable range, as
+  // the simulated stack prints it).
   out.min_layer_height = std::numeric_limits<double>::infinity();
   out.max_layer_height = 0;
   for (PlaneTrace& t : plane) {
     for (double s : t.sigma) {
       if (!std::isfinite(s))
         throw std::invalid_argument("continuous_paths: a segment's shrinkage is not finite");
-      if (s < least || s > most) ++out.clamped_segments, s = std::clamp(s, least, most);
-      const double h = std::clamp(layer_height_for_shrinkage(curve, s), curve.min_layer_height,
-                                  curve.max_layer_height);
+      const PrintedShrinkage printed = printed_shrinkage(curve, s);
+      if (printed.clamped != 0) ++out.clamped_segments;
+      const double h = printed.layer_height;
       t.height.push_back(h);
       out.min_layer_height = std::min(out.min_layer_height, h);
       out.max_layer_height = std::max(out.max_layer_height, h);

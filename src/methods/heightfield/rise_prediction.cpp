@@ -81,10 +81,8 @@ HeightFieldPlate heightfield_plate(const Eigen::MatrixXd& plate, const Eigen::Ma
   out.direction = direction;
   out.wanted_shrinkage = face_shrinkage;
   out.clamped = printed.clamped;
+  out.shrinkage = printed.shrinkage;
   const Layer& first = printed.stack.layers.front();
-  // The σ printed: the curve's at the face's layer height, i.e. the asked σ clamped to its range.
-  const auto [least, most] = reachable_shrinkage(*material.thickness_curve);
-  out.shrinkage = face_shrinkage.cwiseMax(least).cwiseMin(most);
   out.design.plate = plate;
   out.design.F = F;
   out.design.method = "heightfield";
