@@ -202,7 +202,7 @@ int run_heightfield(const HeightFieldCliOptions& o, const GlobalOptions& global)
   options.prediction.from_target = o.other_shapes;
   options.paths = o.gcode;
   options.path_options.path_width = o.path_width_mm > 0 ? o.path_width_mm : printer.nozzle_diameter;
-  if (o.layers > 0) options.path_options.num_layers = o.layers;
+  options.num_layers = o.layers;
   options.progress = progress;
   const HeightFieldDesign design = design_height_field(field, source, options);
   const IsolineMesh& mesh = design.mesh;

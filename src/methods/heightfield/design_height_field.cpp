@@ -3,6 +3,7 @@
 #include <fmt/core.h>
 
 #include <cmath>
+#include <optional>
 
 #include "common/error.h"
 #include "common/stopwatch.h"
@@ -21,12 +22,29 @@ Eigen::VectorXd corner_mean(const Eigen::MatrixXi& F, const Eigen::VectorXd& ver
   return face_values;
 }
 
+// The material as the optimizer's stack sees it. ShrinkageProblem (optimize_shrinkage.h) has no
+// layer count of its own: its stack prints the thickness curve's count, so the design's count
+// goes in there, and the optimizer simulates the plate that is printed.
+Material with_curve_layers(Material material, std::optional<int> num_layers) {
+  if (num_layers) material.thickness_curve->layers = *num_layers;
+  return material;
+}
+
 }  // namespace
 
 HeightFieldDesign design_height_field(const HeightField& field, const std::string& source,
                                       const HeightFieldDesignOptions& options) {
   const Material& material = options.material;
   const ThicknessCurve& curve = require_thickness_curve(material);
+  if (options.num_layers < 0) {
+    throw UserError(ErrorCategory::kOption,
+                    fmt::format("{}: {} layers requested: print at least 1 layer, or 0 for the "
+                                "thickness curve's {}",
+                                source, options.num_layers, curve.layers));
+  }
+  // One count for the stack simulated and the paths printed: they describe one plate.
+  const std::optional<int> num_layers =
+      options.num_layers > 0 ? std::optional<int>(options.num_layers) : std::nullopt;
   const auto start = Clock::now();
   const ProgressCallback& progress = options.progress;
   HeightFieldDesign design;
@@ -63,8 +81,9 @@ HeightFieldDesign design_height_field(const HeightField& field, const std::strin
   design.flattened_vertex_shrinkage =
       initial_vertex_shrinkage(mesh, plate, design.sheet.edge_shrinkage, material);
   const Eigen::VectorXd direction = deposition_directions(mesh, plate);
-  design.flattened_plate = heightfield_plate(
-      plate, mesh.F, direction, corner_mean(mesh.F, design.flattened_vertex_shrinkage), material);
+  design.flattened_plate = heightfield_plate(plate, mesh.F, direction,
+                                             corner_mean(mesh.F, design.flattened_vertex_shrinkage),
+                                             material, num_layers);
   // The simulation from the target (other stable shapes) is run once, on the design printed.
   RisePredictionOptions first_prediction = options.prediction;
   first_prediction.from_target = options.prediction.from_target && !options.optimize;
@@ -83,7 +102,7 @@ HeightFieldDesign design_height_field(const HeightField& field, const std::strin
     problem.F = mesh.F;
     problem.target = mesh.V;
     problem.direction = direction;
-    problem.material = material;
+    problem.material = with_curve_layers(material, num_layers);
     // The equilibrium the flat sheet reaches: the optimization follows that branch.
     problem.start = design.flattened_prediction.from_flat.V;
     OptimizeShrinkageOptions optimization = options.optimization;
@@ -101,8 +120,8 @@ HeightFieldDesign design_height_field(const HeightField& field, const std::strin
     // The judge: the printed stack simulated from the flat sheet again, as it will rise.
     report_progress(progress, {"simulate", 0, 0, NAN, "the optimized shrink, from the flat sheet"});
     t = Clock::now();
-    HeightFieldPlate optimized_plate =
-        heightfield_plate(plate, mesh.F, direction, design.optimization.face_shrinkage, material);
+    HeightFieldPlate optimized_plate = heightfield_plate(
+        plate, mesh.F, direction, design.optimization.face_shrinkage, material, num_layers);
     RisePrediction optimized_prediction =
         predict_rise(optimized_plate.design, mesh.V, options.prediction);
     design.times.final_prediction = seconds_since(t);
@@ -118,8 +137,9 @@ HeightFieldDesign design_height_field(const HeightField& field, const std::strin
   if (options.paths) {
     report_progress(progress, {"trajectories", 0, 0, NAN, "continuous paths along the isolines"});
     t = Clock::now();
-    design.paths =
-        continuous_paths(mesh, plate, design.vertex_shrinkage, material, options.path_options);
+    ContinuousPathOptions path_options = options.path_options;
+    path_options.num_layers = num_layers;
+    design.paths = continuous_paths(mesh, plate, design.vertex_shrinkage, material, path_options);
     design.times.paths = seconds_since(t);
   }
   design.times.total = seconds_since(start);
