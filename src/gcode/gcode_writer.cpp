@@ -945,8 +945,13 @@ std::vector<PathPolyline> skirt_loops(const Toolpath& toolpath, int loops, doubl
   return result;
 }
 
-GcodeResult make_gcode(const Toolpath& toolpath, const PrinterProfile& printer,
-                       const std::vector<Material>& tool_materials, const GcodeOptions& options) {
+namespace {
+
+// What the print asks of the printer before anything is written: one material per tool (or a
+// printer that swaps filament), a toolpath the printer can follow, a bed every material bears and
+// a skirt that makes sense.
+void validate_print(const Toolpath& toolpath, const PrinterProfile& printer,
+                    const std::vector<Material>& tool_materials, const GcodeOptions& options) {
   if (tool_materials.empty()) {
     throw UserError(ErrorCategory::kOption, "no material given: give one material per tool");
   }
@@ -976,24 +981,33 @@ GcodeResult make_gcode(const Toolpath& toolpath, const PrinterProfile& printer,
                                 ">= 0",
                                 options.skirt_loops, options.skirt_distance));
   }
+}
 
-  // Which tools the print uses, in the order they first print.
-  std::set<int> tools;
-  int first_tool = -1;
+// Which tools the print uses, and the one that prints first (0 when nothing is extruded).
+struct PrintTools {
+  std::set<int> used;
+  int first = -1;
+};
+
+PrintTools print_tools(const Toolpath& toolpath) {
+  PrintTools tools;
   for (const ToolpathLayer& layer : toolpath.layers) {
     for (const PathPolyline& path : layer.paths) {
       for (const SegmentStyle& s : path.segments) {
         if (s.travel) continue;
-        tools.insert(s.tool);
-        if (first_tool < 0) first_tool = s.tool;
+        tools.used.insert(s.tool);
+        if (tools.first < 0) tools.first = s.tool;
       }
     }
   }
-  if (first_tool < 0) first_tool = 0;
-  validate_sections(options.sections, toolpath, tool_materials[static_cast<size_t>(first_tool)],
-                    tools.size());
+  if (tools.first < 0) tools.first = 0;
+  return tools;
+}
 
-  // The skirt is as wide and as high as the first extruded segment of the first layer.
+// The skirt primes the tool that prints first, as wide and as high as the first extruded segment
+// of the first layer.
+std::vector<PathPolyline> priming_skirt(const Toolpath& toolpath, const PrinterProfile& printer,
+                                        const GcodeOptions& options, int first_tool) {
   double skirt_width = printer.nozzle_diameter;
   double skirt_height = toolpath.layers.front().height;
   for (const PathPolyline& path : toolpath.layers.front().paths) {
@@ -1007,12 +1021,16 @@ GcodeResult make_gcode(const Toolpath& toolpath, const PrinterProfile& printer,
   }
   std::vector<PathPolyline> skirt =
       skirt_loops(toolpath, options.skirt_loops, options.skirt_distance, skirt_width, skirt_height);
-  // The skirt primes the tool that prints first.
   for (PathPolyline& loop : skirt) {
     for (SegmentStyle& s : loop.segments) s.tool = first_tool;
   }
-  const Placement placement = place(toolpath, skirt, printer, options);
+  return skirt;
+}
 
+// Refuses a print whose head, lifted for travels and section changes, would pass the printer's
+// height.
+void check_print_height(const Toolpath& toolpath, const PrinterProfile& printer,
+                        const GcodeOptions& options) {
   double top = 0;
   for (const ToolpathLayer& layer : toolpath.layers) {
     for (const PathPolyline& path : layer.paths) top = std::max(top, path.points.col(2).maxCoeff());
@@ -1026,52 +1044,69 @@ GcodeResult make_gcode(const Toolpath& toolpath, const PrinterProfile& printer,
                                 "reaches only {:g} mm: use fewer or thinner layers",
                                 highest, printer.name, printer.max_height));
   }
+}
 
-  const std::optional<PrimePad> pad = validate_tool_changes(
-      toolpath, printer, tool_materials, tools, first_tool, placement.min, placement.max);
+const Material& tool_material(const std::vector<Material>& tool_materials, int tool) {
+  return tool_materials[static_cast<size_t>(tool)];
+}
 
-  GcodeResult result;
-  result.plate_to_bed = placement.offset;
-  result.print_min = placement.min;
-  result.print_max = placement.max;
+// Every tool has a heater of its own (a shared nozzle has one, which each tool change sets).
+bool tools_heat_apart(const PrinterProfile& printer) {
+  return printer.extruder_count > 1 && !printer.tool_change.shared_nozzle;
+}
 
-  Emitter emit(printer, tool_materials, placement.offset, pad);
-  auto material_of = [&](int tool) -> const Material& {
-    return tool_materials[static_cast<size_t>(tool)];
-  };
-  // Prologue: the E mode, said explicitly whatever the start G-code did.
+// What follows the start G-code: the E mode, said explicitly whatever the start G-code did, and
+// the tools heated. The start G-code heated T0 (the firmware's tool after it) to T0's material.
+// Every other tool the print uses is heated now, all at once, and stays at its temperature until
+// the end: tools alternate often in a plate, and cooling each between its turns would cost a
+// reheat every time.
+std::string print_prologue(Emitter& emit, const PrinterProfile& printer,
+                           const std::vector<Material>& tool_materials, const PrintTools& tools) {
   emit.line("; ---- flatmorph: print begins");
   emit.line("G90 ; absolute X, Y, Z");
   emit.line(printer.relative_e ? "M83 ; relative E" : "M82 ; absolute E");
   emit.line("G92 E0");
-  // The start G-code heated T0 (the firmware's tool after it) to T0's material. Every other tool
-  // the print uses is heated now, all at once, and stays at its temperature until the end: tools
-  // alternate often in a plate, and cooling each between its turns would cost a reheat every time.
-  // A shared nozzle has one heater, which each tool change sets.
-  const bool own_heaters = printer.extruder_count > 1 && !printer.tool_change.shared_nozzle;
-  for (int tool : tools) {
+  const bool own_heaters = tools_heat_apart(printer);
+  for (int tool : tools.used) {
     if (tool > 0 && own_heaters) {
-      emit.line(fmt::format("M104 T{} S{:.0f} ; heat tool {} ({})", tool,
-                            material_of(tool).nozzle_temperature, tool, material_of(tool).name));
+      const Material& m = tool_material(tool_materials, tool);
+      emit.line(fmt::format("M104 T{} S{:.0f} ; heat tool {} ({})", tool, m.nozzle_temperature,
+                            tool, m.name));
     }
   }
-  for (int tool : tools) {
+  for (int tool : tools.used) {
     if (tool > 0 && own_heaters) {
       emit.line(fmt::format("M109 T{} S{:.0f} ; wait for tool {}", tool,
-                            material_of(tool).nozzle_temperature, tool));
+                            tool_material(tool_materials, tool).nozzle_temperature, tool));
     }
   }
-  if (own_heaters && !tools.count(0)) {
+  if (own_heaters && !tools.used.count(0)) {
     emit.line("M104 T0 S0 ; the print does not use tool 0");
   }
-  emit.line(fan_command(printer.flavor, material_of(emit.tool()).first_layer_fan_speed));
-  const std::string prologue = std::move(emit.out());
+  emit.line(fan_command(printer.flavor,
+                        tool_material(tool_materials, emit.tool()).first_layer_fan_speed));
+  std::string prologue = std::move(emit.out());
   emit.out().clear();
+  return prologue;
+}
 
+// The layers' text, one string per layer, each timed on its own into result.layer_times: the
+// sections' starts (their own nozzle temperature, a lift above the print), the fans, the skirt
+// under the first layer, the retraction and the heaters off after the last.
+std::vector<std::string> print_layers(Emitter& emit, const Toolpath& toolpath,
+                                      const PrinterProfile& printer,
+                                      const std::vector<Material>& tool_materials,
+                                      const GcodeOptions& options,
+                                      const std::vector<PathPolyline>& skirt,
+                                      const PrintTools& tools, GcodeResult& result) {
+  const auto material_of = [&](int tool) -> const Material& {
+    return tool_material(tool_materials, tool);
+  };
+  const bool own_heaters = tools_heat_apart(printer);
   std::vector<std::string> layer_texts;
   size_t section = 0;              // index into options.sections (when there are any)
   size_t section_first_layer = 0;  // index of the current section's first layer
-  double nozzle_target = material_of(first_tool).nozzle_temperature;
+  double nozzle_target = material_of(tools.first).nozzle_temperature;
   double printed_top = 0;  // highest z printed so far (mm)
   for (size_t k = 0; k < toolpath.layers.size(); ++k) {
     const ToolpathLayer& layer = toolpath.layers[k];
@@ -1090,7 +1125,7 @@ GcodeResult make_gcode(const Toolpath& toolpath, const PrinterProfile& printer,
       if (k > 0) emit.lift_to(printed_top + std::max(printer.z_hop, kFirstTravelLift));
       const double target = starts->nozzle_temperature > 0
                                 ? starts->nozzle_temperature
-                                : material_of(first_tool).nozzle_temperature;
+                                : material_of(tools.first).nozzle_temperature;
       if (target != nozzle_target) {
         emit.line(fmt::format("M109 S{:.0f} ; nozzle temperature of this section, wait", target));
         nozzle_target = target;
@@ -1117,7 +1152,7 @@ GcodeResult make_gcode(const Toolpath& toolpath, const PrinterProfile& printer,
       emit.line("M107 ; fan off");
       // The end G-code's M104 S0 reaches the active tool only.
       if (own_heaters) {
-        for (int tool : tools)
+        for (int tool : tools.used)
           emit.line(fmt::format("M104 T{} S0 ; tool {} heater off", tool, tool));
       }
     }
@@ -1128,6 +1163,12 @@ GcodeResult make_gcode(const Toolpath& toolpath, const PrinterProfile& printer,
     layer_texts.push_back(std::move(emit.out()));
     emit.out().clear();
   }
+  return layer_texts;
+}
+
+// The print's time and filament, in all and per tool.
+void tally_print(GcodeResult& result, const Emitter& emit, const PrinterProfile& printer,
+                 const std::vector<Material>& tool_materials) {
   for (double t : result.layer_times) result.print_time += t;
   result.tool_filament_length = emit.extruded();
   for (size_t t = 0; t < tool_materials.size(); ++t) {
@@ -1139,15 +1180,20 @@ GcodeResult make_gcode(const Toolpath& toolpath, const PrinterProfile& printer,
   }
   result.filament_volume = result.filament_length * filament_area(printer);
   result.tool_changes = emit.tool_changes();
+}
 
+// The values the printer profile's start and end G-code may name ({bed_temperature}, ...).
+std::vector<std::pair<std::string, std::string>> profile_template_values(
+    const Toolpath& toolpath, const PrinterProfile& printer,
+    const std::vector<Material>& tool_materials, const Placement& placement) {
   const double max_z = toolpath.layers.back().z;
   std::string material_names;
   for (const Material& m : tool_materials) {
     material_names += (material_names.empty() ? "" : ",") + m.name;
   }
-  const std::vector<std::pair<std::string, std::string>> values = {
+  return {
       {"nozzle_temperature", fmt::format("{:.0f}", tool_materials.front().nozzle_temperature)},
-      {"bed_temperature", fmt::format("{:.0f}", bed_material.bed_temperature)},
+      {"bed_temperature", fmt::format("{:.0f}", tool_materials.front().bed_temperature)},
       {"first_layer_height", fixed(toolpath.layers.front().height, 3)},
       {"nozzle_diameter", fmt::format("{:g}", printer.nozzle_diameter)},
       {"filament_diameter", fmt::format("{:g}", printer.filament_diameter)},
@@ -1169,17 +1215,28 @@ GcodeResult make_gcode(const Toolpath& toolpath, const PrinterProfile& printer,
       {"printer_name", printer.name},
       {"material_name", material_names},
   };
-  const std::string source = fmt::format("printer {}", printer.name);
-  const std::string start = expand_gcode_template(printer.start_gcode, values, source);
-  const std::string end = expand_gcode_template(printer.end_gcode, values, source);
+}
 
-  std::string& text = result.text;
-  text = header(printer, tool_materials, toolpath, options, result, first_tool);
+// Where the profile's start and end G-code lie in the file (byte offsets, [begin, end)): a
+// violation there is the profile's to fix.
+struct ProfileSpans {
+  size_t start_begin = 0, start_end = 0;
+  size_t end_begin = 0, end_end = 0;
+};
+
+// The file: the header, the profile's start G-code, the prologue, the layers (with M73 progress
+// on the flavors that show it) and the profile's end G-code.
+ProfileSpans assemble_gcode(std::string& text, const std::string& header, const std::string& start,
+                            const std::string& prologue,
+                            const std::vector<std::string>& layer_texts, const std::string& end,
+                            const PrinterProfile& printer, const GcodeResult& result) {
+  ProfileSpans spans;
+  text = header;
   text += "; ---- start G-code of the printer profile\n";
-  const size_t start_begin = text.size();
+  spans.start_begin = text.size();
   text += start;
   if (!start.empty() && start.back() != '\n') text += '\n';
-  const size_t start_end = text.size();
+  spans.start_end = text.size();
   text += prologue;
   const bool progress =
       printer.flavor == GcodeFlavor::kMarlin || printer.flavor == GcodeFlavor::kBambu;
@@ -1196,38 +1253,79 @@ GcodeResult make_gcode(const Toolpath& toolpath, const PrinterProfile& printer,
   }
   if (progress) text += "M73 P100 R0\n";
   text += "; ---- end G-code of the printer profile\n";
-  const size_t end_begin = text.size();
+  spans.end_begin = text.size();
   text += end;
   if (!end.empty() && end.back() != '\n') text += '\n';
-  const size_t end_end = text.size();
+  spans.end_end = text.size();
   text += "; ---- end of file\n";
+  return spans;
+}
 
+// The whole file through the safety check: a violation in the profile's start or end G-code is
+// the profile's (its line named there), anywhere else a bug of the writer.
+void check_written_gcode(const std::string& text, const ProfileSpans& spans,
+                         const PrinterProfile& printer,
+                         const std::vector<Material>& tool_materials) {
   const std::vector<GcodeViolation> violations = check_gcode(text, printer, tool_materials, 1);
-  if (!violations.empty()) {
-    const GcodeViolation& v = violations.front();
-    const int start_first = lines_before(text, start_begin) + 1;
-    const int start_last = lines_before(text, start_end);
-    const int end_first = lines_before(text, end_begin) + 1;
-    const int end_last = lines_before(text, end_end);
-    if (v.line >= start_first && v.line <= start_last) {
-      throw UserError(
-          ErrorCategory::kProfile,
-          fmt::format("printer {}: start_gcode line {} is unsafe ({}: {}); fix the "
-                      "profile",
-                      printer.name, v.line - start_first + 1, to_string(v.kind), v.reason));
-    }
-    if (v.line >= end_first && v.line <= end_last) {
-      throw UserError(
-          ErrorCategory::kProfile,
-          fmt::format("printer {}: end_gcode line {} is unsafe ({}: {}); fix the "
-                      "profile",
-                      printer.name, v.line - end_first + 1, to_string(v.kind), v.reason));
-    }
-    throw std::logic_error(
-        fmt::format("the G-code written for {} fails its safety check at line "
-                    "{} ({}: {}); this is a bug of flatmorph, please report it",
-                    printer.name, v.line, to_string(v.kind), v.reason));
+  if (violations.empty()) return;
+  const GcodeViolation& v = violations.front();
+  const int start_first = lines_before(text, spans.start_begin) + 1;
+  const int start_last = lines_before(text, spans.start_end);
+  const int end_first = lines_before(text, spans.end_begin) + 1;
+  const int end_last = lines_before(text, spans.end_end);
+  if (v.line >= start_first && v.line <= start_last) {
+    throw UserError(
+        ErrorCategory::kProfile,
+        fmt::format("printer {}: start_gcode line {} is unsafe ({}: {}); fix the "
+                    "profile",
+                    printer.name, v.line - start_first + 1, to_string(v.kind), v.reason));
   }
+  if (v.line >= end_first && v.line <= end_last) {
+    throw UserError(ErrorCategory::kProfile,
+                    fmt::format("printer {}: end_gcode line {} is unsafe ({}: {}); fix the "
+                                "profile",
+                                printer.name, v.line - end_first + 1, to_string(v.kind), v.reason));
+  }
+  throw std::logic_error(
+      fmt::format("the G-code written for {} fails its safety check at line "
+                  "{} ({}: {}); this is a bug of flatmorph, please report it",
+                  printer.name, v.line, to_string(v.kind), v.reason));
+}
+
+}  // namespace
+
+GcodeResult make_gcode(const Toolpath& toolpath, const PrinterProfile& printer,
+                       const std::vector<Material>& tool_materials, const GcodeOptions& options) {
+  validate_print(toolpath, printer, tool_materials, options);
+  const PrintTools tools = print_tools(toolpath);
+  validate_sections(options.sections, toolpath, tool_material(tool_materials, tools.first),
+                    tools.used.size());
+  const std::vector<PathPolyline> skirt = priming_skirt(toolpath, printer, options, tools.first);
+  const Placement placement = place(toolpath, skirt, printer, options);
+  check_print_height(toolpath, printer, options);
+  const std::optional<PrimePad> pad = validate_tool_changes(
+      toolpath, printer, tool_materials, tools.used, tools.first, placement.min, placement.max);
+
+  GcodeResult result;
+  result.plate_to_bed = placement.offset;
+  result.print_min = placement.min;
+  result.print_max = placement.max;
+  Emitter emit(printer, tool_materials, placement.offset, pad);
+  const std::string prologue = print_prologue(emit, printer, tool_materials, tools);
+  const std::vector<std::string> layer_texts =
+      print_layers(emit, toolpath, printer, tool_materials, options, skirt, tools, result);
+  tally_print(result, emit, printer, tool_materials);
+
+  const std::vector<std::pair<std::string, std::string>> values =
+      profile_template_values(toolpath, printer, tool_materials, placement);
+  const std::string source = fmt::format("printer {}", printer.name);
+  const std::string start = expand_gcode_template(printer.start_gcode, values, source);
+  const std::string end = expand_gcode_template(printer.end_gcode, values, source);
+  // The header lists the print's figures (and adds them to result.summary).
+  const std::string head = header(printer, tool_materials, toolpath, options, result, tools.first);
+  const ProfileSpans spans =
+      assemble_gcode(result.text, head, start, prologue, layer_texts, end, printer, result);
+  check_written_gcode(result.text, spans, printer, tool_materials);
   return result;
 }
 

@@ -40,4 +40,16 @@ std::pair<double, double> reachable_shrinkage(const ThicknessCurve& curve) {
   return std::minmax(at_min, at_max);
 }
 
+PrintedShrinkage printed_shrinkage(const ThicknessCurve& curve, double shrinkage) {
+  const auto [least, most] = reachable_shrinkage(curve);
+  PrintedShrinkage out;
+  out.shrinkage = shrinkage;
+  if (shrinkage < least || shrinkage > most) {
+    out.clamped = shrinkage < least ? -1 : 1;
+    out.shrinkage = std::clamp(shrinkage, least, most);
+  }
+  out.layer_height = layer_height_for_shrinkage(curve, out.shrinkage);
+  return out;
+}
+
 }  // namespace flatmorph

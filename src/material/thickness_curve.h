@@ -48,4 +48,20 @@ double layer_height_for_shrinkage(const ThicknessCurve& curve, double shrinkage)
 // method may ask of the material (SCF 2020 §8 "Flattening quality": edges outside it are invalid).
 std::pair<double, double> reachable_shrinkage(const ThicknessCurve& curve);
 
+// A wanted shrinkage σ (a fraction) as a thickness-controlled print makes it: σ clamped to the
+// reachable range and flagged when outside it, never refused (a design method reports such paths
+// as invalid, SCF 2020 §8, Table 1 "Inv.", and prints the nearest shrink), and the layer height
+// that shrinks by the clamped σ. The one σ → layer height conversion, shared by the layer stack
+// the simulation reads (thickness_controlled_layer_stack) and the paths the printer prints
+// (continuous_paths), so that both describe one plate. A NaN σ throws UserError(kInfeasible);
+// callers refuse a σ that is not finite first, naming where it comes from.
+struct PrintedShrinkage {
+  double shrinkage = 0;     // σ printed: the wanted one, within the reachable range
+  double layer_height = 0;  // mm, within the calibrated range
+  // 0 where σ was reachable, -1 where it was below the least shrink the curve gives (raised to
+  // it; σ < 0 asks the path to grow), +1 where above the greatest (lowered to it).
+  int clamped = 0;
+};
+PrintedShrinkage printed_shrinkage(const ThicknessCurve& curve, double shrinkage);
+
 }  // namespace flatmorph

@@ -2,11 +2,11 @@
 
 #include <fmt/core.h>
 
-#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
 #include "common/error.h"
+#include "material/thickness_curve.h"
 
 namespace flatmorph {
 namespace {
@@ -152,21 +152,20 @@ ThicknessControlledStack thickness_controlled_layer_stack(const Eigen::VectorXd&
     throw UserError(ErrorCategory::kOption,
                     fmt::format("{} layers requested: print at least 1 layer", n));
   }
-  const auto [least, most] = reachable_shrinkage(curve);
   const Eigen::Index num_faces = direction.size();
   ThicknessControlledStack out;
+  out.shrinkage.resize(num_faces);
   out.clamped = Eigen::VectorXi::Zero(num_faces);
   Eigen::VectorXd height(num_faces), lambda1(num_faces);
   for (Eigen::Index f = 0; f < num_faces; ++f) {
-    double s = shrinkage(f);
-    if (!std::isfinite(s)) {
-      throw std::invalid_argument(fmt::format("face {}: the wanted shrinkage is {}", f, s));
+    if (!std::isfinite(shrinkage(f))) {
+      throw std::invalid_argument(
+          fmt::format("face {}: the wanted shrinkage is {}", f, shrinkage(f)));
     }
-    if (s < least || s > most) {
-      out.clamped(f) = s < least ? -1 : 1;
-      s = std::clamp(s, least, most);
-    }
-    height(f) = layer_height_for_shrinkage(curve, s);
+    const PrintedShrinkage printed = printed_shrinkage(curve, shrinkage(f));
+    out.shrinkage(f) = printed.shrinkage;
+    out.clamped(f) = printed.clamped;
+    height(f) = printed.layer_height;
     lambda1(f) = lambda1_at_layer_height(curve, height(f));
   }
   out.stack.materials = {material};

@@ -98,10 +98,12 @@ inline constexpr double kShrinkMorphTheta2Bound = std::numbers::pi / 2;
 //
 // A σ the curve cannot reach is clamped to the reachable range (reachable_shrinkage) and flagged,
 // never refused: a design method reports such faces as invalid (SCF 2020 §8, Table 1 "Inv.") and
-// prints the nearest shrink. Throws UserError (kOption) when the material has no thickness curve
-// or num_layers < 1; std::invalid_argument on sizes that differ or a non-finite σ (a caller's bug).
+// prints the nearest shrink (printed_shrinkage, thickness_curve.h, the conversion the paths share).
+// Throws UserError (kOption) when the material has no thickness curve or num_layers < 1;
+// std::invalid_argument on sizes that differ or a non-finite σ (a caller's bug).
 struct ThicknessControlledStack {
   LayerStack stack;
+  Eigen::VectorXd shrinkage;  // per face, σ printed: the wanted one clamped to the reachable range
   // Per face: 0 where σ was reachable, -1 where it was below the least shrink the curve gives
   // (raised to it; σ < 0 asks the path to grow), +1 where above the greatest (lowered to it).
   Eigen::VectorXi clamped;

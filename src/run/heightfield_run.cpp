@@ -324,7 +324,7 @@ HeightFieldState design_run(const HeightFieldSetup& setup, const ProgressCallbac
   options.paths = setup.gcode;
   options.path_options.path_width =
       o.path_width_mm > 0 ? o.path_width_mm : setup.printer.nozzle_diameter;
-  if (o.layers > 0) options.path_options.num_layers = o.layers;
+  options.num_layers = o.layers;
   options.progress = progress;
   state.design = design_height_field(state.field, describe(setup.input), options);
   const HeightFieldDesign& design = state.design;

@@ -35,7 +35,7 @@ constexpr int kMaxSmoothingPasses = 64;
 constexpr double kSamePoint = 1e-9;
 
 // A face of the printing graph as the row insertion sees it (SCF 2020 §6.3, Fig. 8a).
-struct FaceInfo {
+struct RowFace {
   int a = -1, b = -1, c = -1;    // base a -> b counter-clockwise, apex c
   int base = -1;                 // edge (a, b)
   int side_a = -1, side_b = -1;  // edges (a, c) and (b, c)
@@ -129,7 +129,7 @@ std::vector<int> loop_hills(const IsolineMesh& mesh, std::vector<int>& hill_loop
 
 // Row counts (§6.3 "Printing edge upsampling", notes §5.1): along each strip (faces joined by
 // shared bridge edges), smooth the half-counts, then drop short runs.
-void smooth_row_counts(std::vector<FaceInfo>& faces, const std::vector<std::array<int, 2>>& next,
+void smooth_row_counts(std::vector<RowFace>& faces, const std::vector<std::array<int, 2>>& next,
                        double width) {
   const int num_faces = static_cast<int>(faces.size());
   std::vector<char> seen(num_faces, 0);
@@ -174,11 +174,11 @@ void smooth_row_counts(std::vector<FaceInfo>& faces, const std::vector<std::arra
     for (int pass = 0; pass < kMaxSmoothingPasses; ++pass) {
       bool changed = false;
       for (int i = 0; i < num_pairs; ++i) {
-        FaceInfo& p = faces[strip[i]];
-        FaceInfo& q = faces[strip[(i + 1) % m]];
+        RowFace& p = faces[strip[i]];
+        RowFace& q = faces[strip[(i + 1) % m]];
         if (std::abs(p.half - q.half) < 2) continue;
-        FaceInfo& low = p.half < q.half ? p : q;
-        FaceInfo& high = p.half < q.half ? q : p;
+        RowFace& low = p.half < q.half ? p : q;
+        RowFace& high = p.half < q.half ? q : p;
         if (low.half + 1 <= low.half_max) ++low.half, changed = true;
         if (high.half - 1 >= high.half_min) --high.half, changed = true;
       }
@@ -203,7 +203,7 @@ void smooth_row_counts(std::vector<FaceInfo>& faces, const std::vector<std::arra
       };
       std::vector<Run> runs;
       for (int i = 0; i < m; ++i) {
-        const FaceInfo& f = faces[strip[(offset + i) % m]];
+        const RowFace& f = faces[strip[(offset + i) % m]];
         if (runs.empty() || runs.back().half != f.half) runs.push_back({i, 0, f.half, 0.0});
         ++runs.back().size;
         runs.back().length += f.along;
@@ -231,7 +231,7 @@ void smooth_row_counts(std::vector<FaceInfo>& faces, const std::vector<std::arra
           const int k = std::get<3>(candidate);
           bool fits = true;
           for (int i = 0; i < run.size && fits; ++i) {
-            const FaceInfo& f = faces[strip[(offset + run.first + i) % m]];
+            const RowFace& f = faces[strip[(offset + run.first + i) % m]];
             fits = k >= f.half_min && k <= f.half_max;
           }
           if (!fits) continue;
@@ -249,14 +249,14 @@ void smooth_row_counts(std::vector<FaceInfo>& faces, const std::vector<std::arra
 // The paper's tracing rules (§6.3 "Tool path tracing", Fig. 9) on the printing graph, read on
 // edges: a vertex is "unvisited" while one of its printing edges is unprinted, so that every
 // printing edge (isoline, saddle chain, row) is printed exactly once and each loop closes.
-class Tracer {
+class PathRuleTracer {
  public:
   struct Step {
     int node;
     int edge;  // the printing edge that reached `node`; -1: a bridge; -2: the trace's start
   };
 
-  explicit Tracer(const PrintGraph& graph)
+  explicit PathRuleTracer(const PrintGraph& graph)
       : g_(graph), used_(graph.edges.size(), 0), unused_(graph.position.size(), 0) {
     order_.resize(g_.position.size());
     for (size_t v = 0; v < order_.size(); ++v) order_[v] = static_cast<int>(v);
@@ -416,13 +416,23 @@ class Tracer {
   std::vector<int> previous_;
 };
 
-}  // namespace
+// The flat printing graph the paths are made of: the mesh, its vertices in the plate (mm) and the
+// σ each vertex prints.
+struct ContinuousPathInput {
+  const IsolineMesh& mesh;
+  const Eigen::MatrixXd& plate;
+  const Eigen::VectorXd& vertex_sigma;
 
-ContinuousPaths continuous_paths(const IsolineMesh& mesh, const Eigen::MatrixXd& plate,
-                                 const Eigen::VectorXd& vertex_sigma, const Material& material,
-                                 const ContinuousPathOptions& options) {
-  // --- Options and sizes.
-  const ThicknessCurve& curve = require_thickness_curve(material);
+  int level(int v) const { return mesh.vertex_level(v); }
+  bool is_centre(int v) const { return mesh.vertex_level(v) < 0; }
+  Eigen::Vector2d flat(int v) const { return Eigen::Vector2d(plate(v, 0), plate(v, 1)); }
+  int num_vertices() const { return static_cast<int>(mesh.V.rows()); }
+  int num_edges() const { return static_cast<int>(mesh.E.rows()); }
+  int num_faces() const { return static_cast<int>(mesh.F.rows()); }
+};
+
+// Refuses options no print can have; returns the number of layers to stack.
+int checked_num_layers(const ContinuousPathOptions& options, const ThicknessCurve& curve) {
   const double g = options.path_width;
   if (!(g > 0) || !std::isfinite(g)) {
     throw UserError(ErrorCategory::kOption,
@@ -441,53 +451,69 @@ ContinuousPaths continuous_paths(const IsolineMesh& mesh, const Eigen::MatrixXd&
                                 "speed",
                                 options.feed_rate));
   }
-  const int num_vertices = static_cast<int>(mesh.V.rows());
-  const int num_edges = static_cast<int>(mesh.E.rows());
-  const int num_faces = static_cast<int>(mesh.F.rows());
-  if (plate.rows() != num_vertices || plate.cols() < 2 || vertex_sigma.size() != num_vertices ||
-      static_cast<int>(mesh.edge_kind.size()) != num_edges ||
+  return num_layers;
+}
+
+// The mesh, the plate and the shrink must agree in size, and the faces name vertices that exist:
+// a broken contract of isoline_mesh.h or of the caller, not bad input.
+void check_path_input(const ContinuousPathInput& in) {
+  const IsolineMesh& mesh = in.mesh;
+  const int num_vertices = in.num_vertices();
+  if (in.plate.rows() != num_vertices || in.plate.cols() < 2 ||
+      in.vertex_sigma.size() != num_vertices ||
+      static_cast<int>(mesh.edge_kind.size()) != in.num_edges() ||
       mesh.vertex_level.size() != num_vertices || mesh.vertex_loop.size() != num_vertices ||
       mesh.loops.empty()) {
     throw std::invalid_argument(
         "continuous_paths: the sizes of the mesh, the plate and the shrinkage differ");
   }
-  if (!plate.leftCols(2).allFinite())
+  if (!in.plate.leftCols(2).allFinite())
     throw std::invalid_argument("continuous_paths: the plate has a coordinate that is not finite");
-  auto level = [&](int v) { return mesh.vertex_level(v); };
-  auto is_centre = [&](int v) { return mesh.vertex_level(v) < 0; };
-  auto flat = [&](int v) { return Eigen::Vector2d(plate(v, 0), plate(v, 1)); };
-
-  for (int f = 0; f < num_faces; ++f)
+  for (int f = 0; f < in.num_faces(); ++f)
     for (int k = 0; k < 3; ++k)
       if (mesh.F(f, k) < 0 || mesh.F(f, k) >= num_vertices)
         throw std::invalid_argument(
             fmt::format("continuous_paths: face {} has vertex {}", f, mesh.F(f, k)));
+}
 
-  // --- Edges by their ends.
-  std::vector<std::vector<std::pair<int, int>>> vertex_edges(num_vertices);
-  for (int e = 0; e < num_edges; ++e) {
-    const int a = mesh.E(e, 0), b = mesh.E(e, 1);
-    if (a < 0 || b < 0 || a >= num_vertices || b >= num_vertices || a == b)
-      throw std::invalid_argument(fmt::format("continuous_paths: edge {} is ({}, {})", e, a, b));
-    vertex_edges[a].push_back({b, e});
-    vertex_edges[b].push_back({a, e});
-  }
-  auto edge_between = [&](int a, int b) {
+// The mesh's edges by their ends.
+struct MeshEdgesByVertex {
+  std::vector<std::vector<std::pair<int, int>>> vertex_edges;  // per vertex: (other end, edge)
+
+  int between(int a, int b) const {
     for (const auto& [other, e] : vertex_edges[a])
       if (other == b) return e;
     throw std::invalid_argument(
         fmt::format("continuous_paths: vertices {} and {} share a face but no edge", a, b));
-  };
+  }
+};
 
-  // --- Patch centres: summit caps (the rim is one loop) or saddle polygons.
+MeshEdgesByVertex mesh_edges_by_vertex(const ContinuousPathInput& in) {
+  const int num_vertices = in.num_vertices();
+  MeshEdgesByVertex edges;
+  edges.vertex_edges.resize(num_vertices);
+  for (int e = 0; e < in.num_edges(); ++e) {
+    const int a = in.mesh.E(e, 0), b = in.mesh.E(e, 1);
+    if (a < 0 || b < 0 || a >= num_vertices || b >= num_vertices || a == b)
+      throw std::invalid_argument(fmt::format("continuous_paths: edge {} is ({}, {})", e, a, b));
+    edges.vertex_edges[a].push_back({b, e});
+    edges.vertex_edges[b].push_back({a, e});
+  }
+  return edges;
+}
+
+// Per vertex, 1 for the centre of a saddle polygon; a patch centre whose rim is one loop is a
+// summit cap's (0). Counts the saddle polygons into out.num_saddle_patches.
+std::vector<char> saddle_centres(const ContinuousPathInput& in, ContinuousPaths& out) {
+  const IsolineMesh& mesh = in.mesh;
+  const int num_vertices = in.num_vertices();
   std::vector<std::vector<int>> centre_faces(num_vertices);
-  for (int f = 0; f < num_faces; ++f)
+  for (int f = 0; f < in.num_faces(); ++f)
     for (int k = 0; k < 3; ++k)
-      if (is_centre(mesh.F(f, k))) centre_faces[mesh.F(f, k)].push_back(f);
+      if (in.is_centre(mesh.F(f, k))) centre_faces[mesh.F(f, k)].push_back(f);
   std::vector<char> saddle_centre(num_vertices, 0);
-  ContinuousPaths out;
   for (int v = 0; v < num_vertices; ++v) {
-    if (!is_centre(v) || centre_faces[v].empty()) continue;
+    if (!in.is_centre(v) || centre_faces[v].empty()) continue;
     int rim_loop = -2;
     bool one_loop = true;
     for (int f : centre_faces[v]) {
@@ -502,127 +528,142 @@ ContinuousPaths continuous_paths(const IsolineMesh& mesh, const Eigen::MatrixXd&
     saddle_centre[v] = one_loop ? 0 : 1;
     out.num_saddle_patches += saddle_centre[v];
   }
+  return saddle_centre;
+}
 
-  // --- Faces: base, apex, sides, altitude, hill.
-  std::vector<int> loop_hill = loop_hills(mesh, out.hill_loops);
-  std::vector<FaceInfo> faces(num_faces);
-  for (int f = 0; f < num_faces; ++f) {
-    FaceInfo& info = faces[f];
-    int centre_corner = -1, base_corner = -1, num_centres = 0, num_bases = 0;
-    for (int k = 0; k < 3; ++k) {
-      const int v = mesh.F(f, k);
-      if (is_centre(v)) centre_corner = k, ++num_centres;
-      if (level(mesh.F(f, (k + 1) % 3)) == level(mesh.F(f, (k + 2) % 3)))
-        base_corner = k, ++num_bases;
-    }
-    if (num_centres > 1) {
-      throw std::invalid_argument(
-          fmt::format("continuous_paths: face {} at {} has {} patch centres", f,
-                      at(plate, mesh.F(f, 0)), num_centres));
-    }
-    const int apex_corner = num_centres == 1 ? centre_corner : base_corner;
-    if (num_centres == 0 && num_bases != 1) {
-      throw std::invalid_argument(
-          fmt::format("continuous_paths: face {} at {} has {} edges within one level, not 1 (the "
-                      "structure of isoline_mesh.h)",
-                      f, at(plate, mesh.F(f, 0)), num_bases));
-    }
-    info.c = mesh.F(f, apex_corner);
-    info.a = mesh.F(f, (apex_corner + 1) % 3);
-    info.b = mesh.F(f, (apex_corner + 2) % 3);
-    info.patch = num_centres == 1;
-    info.saddle = info.patch && saddle_centre[info.c];
-    if (!info.patch && std::abs(level(info.c) - level(info.a)) != 1) {
-      throw std::invalid_argument(
-          fmt::format("continuous_paths: face {} at {} has its apex {} levels from its base", f,
-                      at(plate, info.c), level(info.c) - level(info.a)));
-    }
-    info.up = info.patch || level(info.c) > level(info.a);
-    info.base = edge_between(info.a, info.b);
-    info.side_a = edge_between(info.a, info.c);
-    info.side_b = edge_between(info.b, info.c);
-    const bool printed_base = mesh.edge_kind[info.base] != EdgeKind::kBridge;
-    const bool bridge_sides = mesh.edge_kind[info.side_a] == EdgeKind::kBridge &&
-                              mesh.edge_kind[info.side_b] == EdgeKind::kBridge;
-    if (!info.patch && (!printed_base || !bridge_sides)) {
-      throw std::invalid_argument(fmt::format(
-          "continuous_paths: face {} at {}: its base must be a printing edge and its sides bridges",
-          f, at(plate, info.a)));
-    }
-    info.rows = printed_base && bridge_sides;
-    const Eigen::Vector2d ab = flat(info.b) - flat(info.a), ac = flat(info.c) - flat(info.a);
-    const double base_length = ab.norm();
-    info.altitude = base_length > 0 ? std::abs(ab.x() * ac.y() - ab.y() * ac.x()) / base_length : 0;
-    info.along = 0.5 * base_length;
-    // Rows: n = 2 k, k = ⌊h / 2g⌋ (the paper's spacing twice the width, then doubled), within
-    // the band: the spacing h / (2k + 1) of a face with h in [1.5 g, 2 g) would be up to 2 g with
-    // no rows, leaving a gap, so such a face gets two rows (the only case the band changes).
-    const double h = info.altitude;
-    info.half_min = std::max(0, static_cast<int>(std::ceil((h / (kSpacingHigh * g) - 1) / 2)));
-    info.half_max =
-        std::max(info.half_min, static_cast<int>(std::floor((h / (kSpacingLow * g) - 1) / 2)));
-    info.half = info.rows ? std::clamp(static_cast<int>(std::floor(h / (2 * g))), info.half_min,
-                                       info.half_max)
-                          : 0;
-    // The hill: the loop below the face (a cap's rim), if one summit alone stands on it.
-    int lower_loop = -1;
-    if (info.patch) {
-      lower_loop = info.saddle ? -1 : mesh.vertex_loop(info.a);
-    } else if (info.up) {
-      lower_loop =
-          mesh.vertex_loop(info.a) >= 0 ? mesh.vertex_loop(info.a) : mesh.vertex_loop(info.b);
-    } else {
-      lower_loop = mesh.vertex_loop(info.c);
-    }
-    if (lower_loop >= static_cast<int>(mesh.loops.size()))
-      throw std::invalid_argument(
-          fmt::format("continuous_paths: loop {} does not exist", lower_loop));
-    info.hill = lower_loop >= 0 ? loop_hill[lower_loop] : -1;
+// Face f as the row insertion sees it: its base, apex and sides, its altitude in the plate, the
+// rows it gets (n = 2⌊h / 2g⌋ within the spacing band) and the hill it belongs to.
+RowFace row_face(const ContinuousPathInput& in, int f, const MeshEdgesByVertex& edges,
+                 const std::vector<char>& saddle_centre, const std::vector<int>& loop_hill,
+                 double g) {
+  const IsolineMesh& mesh = in.mesh;
+  const Eigen::MatrixXd& plate = in.plate;
+  RowFace info;
+  int centre_corner = -1, base_corner = -1, num_centres = 0, num_bases = 0;
+  for (int k = 0; k < 3; ++k) {
+    const int v = mesh.F(f, k);
+    if (in.is_centre(v)) centre_corner = k, ++num_centres;
+    if (in.level(mesh.F(f, (k + 1) % 3)) == in.level(mesh.F(f, (k + 2) % 3)))
+      base_corner = k, ++num_bases;
   }
+  if (num_centres > 1) {
+    throw std::invalid_argument(fmt::format("continuous_paths: face {} at {} has {} patch centres",
+                                            f, at(plate, mesh.F(f, 0)), num_centres));
+  }
+  const int apex_corner = num_centres == 1 ? centre_corner : base_corner;
+  if (num_centres == 0 && num_bases != 1) {
+    throw std::invalid_argument(
+        fmt::format("continuous_paths: face {} at {} has {} edges within one level, not 1 (the "
+                    "structure of isoline_mesh.h)",
+                    f, at(plate, mesh.F(f, 0)), num_bases));
+  }
+  info.c = mesh.F(f, apex_corner);
+  info.a = mesh.F(f, (apex_corner + 1) % 3);
+  info.b = mesh.F(f, (apex_corner + 2) % 3);
+  info.patch = num_centres == 1;
+  info.saddle = info.patch && saddle_centre[info.c];
+  if (!info.patch && std::abs(in.level(info.c) - in.level(info.a)) != 1) {
+    throw std::invalid_argument(
+        fmt::format("continuous_paths: face {} at {} has its apex {} levels from its base", f,
+                    at(plate, info.c), in.level(info.c) - in.level(info.a)));
+  }
+  info.up = info.patch || in.level(info.c) > in.level(info.a);
+  info.base = edges.between(info.a, info.b);
+  info.side_a = edges.between(info.a, info.c);
+  info.side_b = edges.between(info.b, info.c);
+  const bool printed_base = mesh.edge_kind[info.base] != EdgeKind::kBridge;
+  const bool bridge_sides = mesh.edge_kind[info.side_a] == EdgeKind::kBridge &&
+                            mesh.edge_kind[info.side_b] == EdgeKind::kBridge;
+  if (!info.patch && (!printed_base || !bridge_sides)) {
+    throw std::invalid_argument(fmt::format(
+        "continuous_paths: face {} at {}: its base must be a printing edge and its sides bridges",
+        f, at(plate, info.a)));
+  }
+  info.rows = printed_base && bridge_sides;
+  const Eigen::Vector2d ab = in.flat(info.b) - in.flat(info.a),
+                        ac = in.flat(info.c) - in.flat(info.a);
+  const double base_length = ab.norm();
+  info.altitude = base_length > 0 ? std::abs(ab.x() * ac.y() - ab.y() * ac.x()) / base_length : 0;
+  info.along = 0.5 * base_length;
+  // Rows: n = 2 k, k = ⌊h / 2g⌋ (the paper's spacing twice the width, then doubled), within
+  // the band: the spacing h / (2k + 1) of a face with h in [1.5 g, 2 g) would be up to 2 g with
+  // no rows, leaving a gap, so such a face gets two rows (the only case the band changes).
+  const double h = info.altitude;
+  info.half_min = std::max(0, static_cast<int>(std::ceil((h / (kSpacingHigh * g) - 1) / 2)));
+  info.half_max =
+      std::max(info.half_min, static_cast<int>(std::floor((h / (kSpacingLow * g) - 1) / 2)));
+  info.half = info.rows ? std::clamp(static_cast<int>(std::floor(h / (2 * g))), info.half_min,
+                                     info.half_max)
+                        : 0;
+  // The hill: the loop below the face (a cap's rim), if one summit alone stands on it.
+  int lower_loop = -1;
+  if (info.patch) {
+    lower_loop = info.saddle ? -1 : mesh.vertex_loop(info.a);
+  } else if (info.up) {
+    lower_loop =
+        mesh.vertex_loop(info.a) >= 0 ? mesh.vertex_loop(info.a) : mesh.vertex_loop(info.b);
+  } else {
+    lower_loop = mesh.vertex_loop(info.c);
+  }
+  if (lower_loop >= static_cast<int>(mesh.loops.size()))
+    throw std::invalid_argument(
+        fmt::format("continuous_paths: loop {} does not exist", lower_loop));
+  info.hill = lower_loop >= 0 ? loop_hill[lower_loop] : -1;
+  return info;
+}
 
-  // --- Strips: row faces joined across their bridge sides.
-  std::vector<std::vector<int>> edge_faces(num_edges);  // row faces with the edge as a side
+// The strips: row faces joined across their shared bridge sides.
+struct RowStrips {
+  std::vector<std::vector<int>> edge_faces;  // per edge, the row faces with the edge as a side
+  std::vector<std::array<int, 2>> next;      // per face, the faces across side_a and side_b
+};
+
+RowStrips row_strips(const std::vector<RowFace>& faces, int num_edges) {
+  const int num_faces = static_cast<int>(faces.size());
+  RowStrips strips;
+  strips.edge_faces.resize(num_edges);
   for (int f = 0; f < num_faces; ++f) {
     if (!faces[f].rows) continue;
     for (int e : {faces[f].side_a, faces[f].side_b}) {
-      edge_faces[e].push_back(f);
-      if (edge_faces[e].size() > 2)
+      strips.edge_faces[e].push_back(f);
+      if (strips.edge_faces[e].size() > 2)
         throw std::invalid_argument(fmt::format("continuous_paths: edge {} is in 3 faces", e));
     }
   }
-  std::vector<std::array<int, 2>> next(num_faces, {-1, -1});
+  strips.next.assign(num_faces, {-1, -1});
   for (int f = 0; f < num_faces; ++f) {
     if (!faces[f].rows) continue;
     const int sides[2] = {faces[f].side_a, faces[f].side_b};
     for (int s = 0; s < 2; ++s)
-      for (int other : edge_faces[sides[s]])
-        if (other != f) next[f][s] = other;
+      for (int other : strips.edge_faces[sides[s]])
+        if (other != f) strips.next[f][s] = other;
   }
-  smooth_row_counts(faces, next, g);
+  return strips;
+}
 
-  // --- The graph: mesh vertices, row nodes on the bridge edges, printing edges, bridge links.
-  PrintGraph graph;
-  for (int v = 0; v < num_vertices; ++v) {
-    graph.add_node(flat(v), is_centre(v) ? 0.0 : level(v), vertex_sigma(v));
-  }
-  // Bridge edges: merge the rows of the faces on both sides (Fig. 8b). The rows of the face with
-  // fewer continue across; the extra rows of the face with more pair up into U-turns whose two
-  // ends are one node (Fig. 8c: "move the two neighbouring nodes ... to the same location"), and
-  // all nodes are spaced evenly along the edge (Fig. 8c: "redistribute"). The authors pair index
-  // by index from the lower level, which puts the U-turns at the top (notes §5.2): every row above
-  // the first then shifts by up to (n1 - n2) / 2 spacings within the one face next to the edge,
-  // and the beads overlap there. Here the U-turns sit in the middle of the rows (half of the
-  // continuing rows below them, half above), halving the largest shift (on the built-in saddle at
-  // 100 mm: 0.46 % of the sheet under three beads or more instead of 1.25 %).
-  std::vector<EdgeRows> edge_rows(num_edges);
-  for (int e = 0; e < num_edges; ++e) {
+// Bridge edges: merge the rows of the faces on both sides (Fig. 8b). The rows of the face with
+// fewer continue across; the extra rows of the face with more pair up into U-turns whose two
+// ends are one node (Fig. 8c: "move the two neighbouring nodes ... to the same location"), and
+// all nodes are spaced evenly along the edge (Fig. 8c: "redistribute"). The authors pair index
+// by index from the lower level, which puts the U-turns at the top (notes §5.2): every row above
+// the first then shifts by up to (n1 - n2) / 2 spacings within the one face next to the edge,
+// and the beads overlap there. Here the U-turns sit in the middle of the rows (half of the
+// continuing rows below them, half above), halving the largest shift (on the built-in saddle at
+// 100 mm: 0.46 % of the sheet under three beads or more instead of 1.25 %). Adds the nodes and the
+// bridge links to `graph`; returns, per edge, how its rows meet.
+std::vector<EdgeRows> add_bridge_rows(PrintGraph& graph, const ContinuousPathInput& in,
+                                      const std::vector<RowFace>& faces, const RowStrips& strips,
+                                      ContinuousPaths& out) {
+  const IsolineMesh& mesh = in.mesh;
+  std::vector<EdgeRows> edge_rows(in.num_edges());
+  for (int e = 0; e < in.num_edges(); ++e) {
     if (mesh.edge_kind[e] != EdgeKind::kBridge) continue;
     int lo = mesh.E(e, 0), hi = mesh.E(e, 1);
-    if (is_centre(lo) || (!is_centre(hi) && level(hi) < level(lo))) std::swap(lo, hi);
-    if (is_centre(lo)) continue;  // between two centres: nothing to print
+    if (in.is_centre(lo) || (!in.is_centre(hi) && in.level(hi) < in.level(lo))) std::swap(lo, hi);
+    if (in.is_centre(lo)) continue;  // between two centres: nothing to print
     EdgeRows& er = edge_rows[e];
     std::vector<int> chain = {lo};
-    const std::vector<int>& fs = edge_faces[e];
+    const std::vector<int>& fs = strips.edge_faces[e];
     if (!fs.empty()) {
       int n1 = 2 * faces[fs[0]].half, n2 = fs.size() > 1 ? 2 * faces[fs[1]].half : 0;
       er.big = fs[0];
@@ -635,29 +676,29 @@ ContinuousPaths continuous_paths(const IsolineMesh& mesh, const Eigen::MatrixXd&
       out.num_double_backs += (n1 - n2) / 2;
       for (int i = 0; i < er.count; ++i) {
         const double s = double(i + 1) / (er.count + 1);
-        const int node = graph.add_node((1 - s) * flat(lo) + s * flat(hi), level(lo) + s,
-                                        (1 - s) * vertex_sigma(lo) + s * vertex_sigma(hi));
+        const int node = graph.add_node((1 - s) * in.flat(lo) + s * in.flat(hi), in.level(lo) + s,
+                                        (1 - s) * in.vertex_sigma(lo) + s * in.vertex_sigma(hi));
         graph.corner[node] = i >= er.below && i < er.below + er.corners;
         chain.push_back(node);
       }
     }
-    if (!is_centre(hi) && level(hi) != level(lo)) chain.push_back(hi);
+    if (!in.is_centre(hi) && in.level(hi) != in.level(lo)) chain.push_back(hi);
     for (size_t i = 0; i + 1 < chain.size(); ++i) {
       graph.up[chain[i]].push_back(chain[i + 1]);
       graph.down[chain[i + 1]].push_back(chain[i]);
     }
   }
-  auto row_node = [&](int f, int e, int p) {  // row p (1 = lowest) of face f on its side e
-    const EdgeRows& er = edge_rows[e];
-    if (p <= er.below) return er.first_node + p - 1;
-    if (f != er.big) return er.first_node + er.corners + p - 1;
-    if (p <= er.below + 2 * er.corners) return er.first_node + er.below + (p - er.below - 1) / 2;
-    return er.first_node + p - er.corners - 1;
-  };
-  // Printing edges of the mesh (isolines, boundary, saddle chains), counter-clockwise: along the
-  // loop's order, else with the face where the edge is a base below its apex on the left.
-  std::vector<std::vector<int>> edge_all_faces(num_edges);
-  for (int f = 0; f < num_faces; ++f) edge_all_faces[faces[f].base].push_back(f);
+  return edge_rows;
+}
+
+// Printing edges of the mesh (isolines, boundary, saddle chains), counter-clockwise: along the
+// loop's order, else with the face where the edge is a base below its apex on the left.
+void add_isoline_edges(PrintGraph& graph, const ContinuousPathInput& in,
+                       const std::vector<RowFace>& faces) {
+  const IsolineMesh& mesh = in.mesh;
+  const int num_vertices = in.num_vertices();
+  std::vector<std::vector<int>> edge_all_faces(in.num_edges());
+  for (int f = 0; f < in.num_faces(); ++f) edge_all_faces[faces[f].base].push_back(f);
   std::vector<int> loop_position(num_vertices, -1);
   for (const IsolineLoop& loop : mesh.loops)
     for (size_t i = 0; i < loop.vertices.size(); ++i) {
@@ -666,17 +707,17 @@ ContinuousPaths continuous_paths(const IsolineMesh& mesh, const Eigen::MatrixXd&
         throw std::invalid_argument(fmt::format("continuous_paths: a loop has vertex {}", v));
       loop_position[v] = static_cast<int>(i);
     }
-  for (int e = 0; e < num_edges; ++e) {
+  for (int e = 0; e < in.num_edges(); ++e) {
     if (mesh.edge_kind[e] == EdgeKind::kBridge) continue;
     int a = mesh.E(e, 0), b = mesh.E(e, 1);
-    if (is_centre(a) || is_centre(b)) continue;
+    if (in.is_centre(a) || in.is_centre(b)) continue;
     // The edge prints the mean of its ends, as a face prints the mean of its corners
     // (optimize_shrinkage.h).
-    const double edge_sigma = 0.5 * (vertex_sigma(a) + vertex_sigma(b));
+    const double edge_sigma = 0.5 * (in.vertex_sigma(a) + in.vertex_sigma(b));
     if (!std::isfinite(edge_sigma)) {
       throw std::invalid_argument(
-          fmt::format("continuous_paths: printing edge {} at {} has shrinkage {}", e, at(plate, a),
-                      edge_sigma));
+          fmt::format("continuous_paths: printing edge {} at {} has shrinkage {}", e,
+                      at(in.plate, a), edge_sigma));
     }
     int face = -1;
     for (int f : edge_all_faces[e])
@@ -700,12 +741,26 @@ ContinuousPaths continuous_paths(const IsolineMesh& mesh, const Eigen::MatrixXd&
     // climbs its own hill instead of running off along the chain.
     graph.add_edge(a, b, edge_sigma, face, on_loop ? 0 : 1);
   }
-  // Rows (Fig. 8a-b): row p of a face joins the p-th nodes of its two sides, counter-clockwise.
-  for (int f = 0; f < num_faces; ++f) {
-    const FaceInfo& info = faces[f];
+}
+
+// The node of row p (1 = lowest) of face f on its side e.
+int row_node(const std::vector<EdgeRows>& edge_rows, int f, int e, int p) {
+  const EdgeRows& er = edge_rows[e];
+  if (p <= er.below) return er.first_node + p - 1;
+  if (f != er.big) return er.first_node + er.corners + p - 1;
+  if (p <= er.below + 2 * er.corners) return er.first_node + er.below + (p - er.below - 1) / 2;
+  return er.first_node + p - er.corners - 1;
+}
+
+// Rows (Fig. 8a-b): row p of a face joins the p-th nodes of its two sides, counter-clockwise.
+void add_rows(PrintGraph& graph, const std::vector<RowFace>& faces,
+              const std::vector<EdgeRows>& edge_rows) {
+  for (int f = 0; f < static_cast<int>(faces.size()); ++f) {
+    const RowFace& info = faces[f];
     if (!info.rows) continue;
     for (int p = 1; p <= 2 * info.half; ++p) {
-      int left = row_node(f, info.side_a, p), right = row_node(f, info.side_b, p);
+      int left = row_node(edge_rows, f, info.side_a, p),
+          right = row_node(edge_rows, f, info.side_b, p);
       if (left == right) continue;
       if (!info.up) std::swap(left, right);
       // σ between the levels by the row's position (notes §5.4: the authors' counter bug took
@@ -714,36 +769,55 @@ ContinuousPaths continuous_paths(const IsolineMesh& mesh, const Eigen::MatrixXd&
                      info.saddle ? 1 : 0);
     }
   }
+}
 
-  // --- Tracing.
-  Tracer tracer(graph);
-  std::vector<std::vector<Tracer::Step>> traces = tracer.run(0);
-  for (auto& trace : tracer.run(1)) traces.push_back(std::move(trace));
+// The printing graph with its rows: the mesh's vertices, the row nodes on the bridge edges, the
+// printing edges and the bridge links.
+PrintGraph print_graph(const ContinuousPathInput& in, const std::vector<RowFace>& faces,
+                       const RowStrips& strips, ContinuousPaths& out) {
+  PrintGraph graph;
+  for (int v = 0; v < in.num_vertices(); ++v) {
+    graph.add_node(in.flat(v), in.is_centre(v) ? 0.0 : in.level(v), in.vertex_sigma(v));
+  }
+  const std::vector<EdgeRows> edge_rows = add_bridge_rows(graph, in, faces, strips, out);
+  add_isoline_edges(graph, in, faces);
+  add_rows(graph, faces, edge_rows);
+  return graph;
+}
 
-  // --- Per-hill counts.
+// Per hill, how many traces print in it.
+void count_paths_per_hill(const std::vector<std::vector<PathRuleTracer::Step>>& traces,
+                          const PrintGraph& graph, const std::vector<RowFace>& faces,
+                          ContinuousPaths& out) {
   out.paths_per_hill.assign(out.hill_loops.size(), 0);
   for (const auto& trace : traces) {
     std::vector<char> in_hill(out.hill_loops.size(), 0);
-    for (const Tracer::Step& step : trace) {
+    for (const PathRuleTracer::Step& step : trace) {
       if (step.edge < 0) continue;
       const int face = graph.edges[step.edge].face;
       if (face >= 0 && faces[face].hill >= 0) in_hill[faces[face].hill] = 1;
     }
     for (size_t h = 0; h < in_hill.size(); ++h) out.paths_per_hill[h] += in_hill[h];
   }
+}
 
-  // --- The traces in the plane, σ per segment (consecutive equal points dropped).
-  struct PlaneTrace {
-    std::vector<Eigen::Vector2d> points;
-    std::vector<double> sigma;   // per segment
-    std::vector<double> height;  // per segment, mm
-  };
+// A trace in the plane, σ and layer height per segment.
+struct PlaneTrace {
+  std::vector<Eigen::Vector2d> points;
+  std::vector<double> sigma;   // per segment
+  std::vector<double> height;  // per segment, mm
+};
+
+// The traces in the plane, σ per segment (consecutive equal points dropped); sums the lengths
+// printed and travelled into `out`.
+std::vector<PlaneTrace> plane_traces(const std::vector<std::vector<PathRuleTracer::Step>>& traces,
+                                     const PrintGraph& graph, ContinuousPaths& out) {
   std::vector<PlaneTrace> plane;
   for (const auto& trace : traces) {
     PlaneTrace t;
     t.points = {graph.position[trace[0].node]};
     for (size_t i = 1; i < trace.size(); ++i) {
-      const Tracer::Step& step = trace[i];
+      const PathRuleTracer::Step& step = trace[i];
       const Eigen::Vector2d& x = graph.position[step.node];
       if ((x - t.points.back()).norm() <= kSamePoint) continue;
       t.sigma.push_back(step.edge >= 0
@@ -763,28 +837,36 @@ ContinuousPaths continuous_paths(const IsolineMesh& mesh, const Eigen::MatrixXd&
                     "the printing graph has no printing edge to trace: give a height field with "
                     "at least one isoline");
   }
+  return plane;
+}
 
-  // --- Layer heights (§6.4: θ from σ on the thickness curve, clamped to its reachable range).
-  const auto [least, most] = reachable_shrinkage(curve);
+// Layer heights (§6.4: θ from σ on the thickness curve, clamped to its reachable range, as the
+// simulated stack prints it).
+void set_layer_heights(std::vector<PlaneTrace>& plane, const ThicknessCurve& curve,
+                       ContinuousPaths& out) {
   out.min_layer_height = std::numeric_limits<double>::infinity();
   out.max_layer_height = 0;
   for (PlaneTrace& t : plane) {
     for (double s : t.sigma) {
       if (!std::isfinite(s))
         throw std::invalid_argument("continuous_paths: a segment's shrinkage is not finite");
-      if (s < least || s > most) ++out.clamped_segments, s = std::clamp(s, least, most);
-      const double h = std::clamp(layer_height_for_shrinkage(curve, s), curve.min_layer_height,
-                                  curve.max_layer_height);
+      const PrintedShrinkage printed = printed_shrinkage(curve, s);
+      if (printed.clamped != 0) ++out.clamped_segments;
+      const double h = printed.layer_height;
       t.height.push_back(h);
       out.min_layer_height = std::min(out.min_layer_height, h);
       out.max_layer_height = std::max(out.max_layer_height, h);
     }
   }
+}
 
-  // --- The stack: identical layers at z = k · h (§6.4). Between traces (and before the first)
-  // the nozzle travels at the layer's top, k · h_max: the layer's z varies, and a travel at the
-  // height of its two ends could drag through thicker beads between them (the G-code writer lifts
-  // only relative to the ends).
+// The stack: identical layers at z = k · h (§6.4). Between traces (and before the first) the
+// nozzle travels at the layer's top, k · h_max: the layer's z varies, and a travel at the height
+// of its two ends could drag through thicker beads between them (the G-code writer lifts only
+// relative to the ends).
+void stack_path_layers(const std::vector<PlaneTrace>& plane, int num_layers,
+                       const ContinuousPathOptions& options, ContinuousPaths& out) {
+  const double g = options.path_width;
   const double feed = options.feed_rate;
   for (int k = 1; k <= num_layers; ++k) {
     const double top = k * out.max_layer_height;
@@ -822,6 +904,41 @@ ContinuousPaths continuous_paths(const IsolineMesh& mesh, const Eigen::MatrixXd&
     layer.paths.push_back(std::move(path));
     out.toolpath.layers.push_back(std::move(layer));
   }
+}
+
+}  // namespace
+
+ContinuousPaths continuous_paths(const IsolineMesh& mesh, const Eigen::MatrixXd& plate,
+                                 const Eigen::VectorXd& vertex_sigma, const Material& material,
+                                 const ContinuousPathOptions& options) {
+  const ThicknessCurve& curve = require_thickness_curve(material);
+  const int num_layers = checked_num_layers(options, curve);
+  const ContinuousPathInput in{mesh, plate, vertex_sigma};
+  check_path_input(in);
+  const MeshEdgesByVertex edges = mesh_edges_by_vertex(in);
+
+  // Faces: base, apex, sides, altitude, rows, hill; patch centres are summit caps (the rim is one
+  // loop) or saddle polygons.
+  ContinuousPaths out;
+  const std::vector<char> saddle_centre = saddle_centres(in, out);
+  const std::vector<int> loop_hill = loop_hills(mesh, out.hill_loops);
+  std::vector<RowFace> faces(in.num_faces());
+  for (int f = 0; f < in.num_faces(); ++f) {
+    faces[f] = row_face(in, f, edges, saddle_centre, loop_hill, options.path_width);
+  }
+  const RowStrips strips = row_strips(faces, in.num_edges());
+  smooth_row_counts(faces, strips.next, options.path_width);
+  const PrintGraph graph = print_graph(in, faces, strips, out);
+
+  // Tracing: loops, strips and caps first, then saddle chains with their saddle polygons.
+  PathRuleTracer tracer(graph);
+  std::vector<std::vector<PathRuleTracer::Step>> traces = tracer.run(0);
+  for (auto& trace : tracer.run(1)) traces.push_back(std::move(trace));
+  count_paths_per_hill(traces, graph, faces, out);
+
+  std::vector<PlaneTrace> plane = plane_traces(traces, graph, out);
+  set_layer_heights(plane, curve, out);
+  stack_path_layers(plane, num_layers, options, out);
   return out;
 }
 

@@ -2,18 +2,15 @@
 
 #include <fmt/core.h>
 
-#include <chrono>
 #include <cmath>
+#include <optional>
 
 #include "common/error.h"
+#include "common/stopwatch.h"
 #include "methods/heightfield/shrinkage_field.h"
 
 namespace flatmorph {
 namespace {
-
-double seconds_since(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
 
 // Per face, the mean of its corners' σ: what the optimization prints (optimize_shrinkage.h).
 Eigen::VectorXd corner_mean(const Eigen::MatrixXi& F, const Eigen::VectorXd& vertex_values) {
@@ -25,18 +22,35 @@ Eigen::VectorXd corner_mean(const Eigen::MatrixXi& F, const Eigen::VectorXd& ver
   return face_values;
 }
 
+// The material as the optimizer's stack sees it. ShrinkageProblem (optimize_shrinkage.h) has no
+// layer count of its own: its stack prints the thickness curve's count, so the design's count
+// goes in there, and the optimizer simulates the plate that is printed.
+Material with_curve_layers(Material material, std::optional<int> num_layers) {
+  if (num_layers) material.thickness_curve->layers = *num_layers;
+  return material;
+}
+
 }  // namespace
 
 HeightFieldDesign design_height_field(const HeightField& field, const std::string& source,
                                       const HeightFieldDesignOptions& options) {
   const Material& material = options.material;
   const ThicknessCurve& curve = require_thickness_curve(material);
-  const auto start = std::chrono::steady_clock::now();
+  if (options.num_layers < 0) {
+    throw UserError(ErrorCategory::kOption,
+                    fmt::format("{}: {} layers requested: print at least 1 layer, or 0 for the "
+                                "thickness curve's {}",
+                                source, options.num_layers, curve.layers));
+  }
+  // One count for the stack simulated and the paths printed: they describe one plate.
+  const std::optional<int> num_layers =
+      options.num_layers > 0 ? std::optional<int>(options.num_layers) : std::nullopt;
+  const auto start = Clock::now();
   const ProgressCallback& progress = options.progress;
   HeightFieldDesign design;
 
   report_progress(progress, {"mesh", 0, 0, NAN, "isolines and gradient lines"});
-  auto t = std::chrono::steady_clock::now();
+  auto t = Clock::now();
   design.mesh = isoline_mesh(field, options.meshing, source);
   design.times.meshing = seconds_since(t);
   const IsolineMesh& mesh = design.mesh;
@@ -56,19 +70,20 @@ HeightFieldDesign design_height_field(const HeightField& field, const std::strin
     };
   }
   report_progress(progress, {"flatten", 0, 0, NAN, "local/global steps with relocations"});
-  t = std::chrono::steady_clock::now();
+  t = Clock::now();
   design.sheet = flatten_sheet(mesh, flattening);
   design.times.flattening = seconds_since(t);
   const Eigen::MatrixXd& plate = design.sheet.plate;
 
   report_progress(progress,
                   {"simulate", 0, 0, NAN, "the flattening's shrink, from the flat sheet"});
-  t = std::chrono::steady_clock::now();
+  t = Clock::now();
   design.flattened_vertex_shrinkage =
       initial_vertex_shrinkage(mesh, plate, design.sheet.edge_shrinkage, material);
   const Eigen::VectorXd direction = deposition_directions(mesh, plate);
-  design.flattened_plate = heightfield_plate(
-      plate, mesh.F, direction, corner_mean(mesh.F, design.flattened_vertex_shrinkage), material);
+  design.flattened_plate = heightfield_plate(plate, mesh.F, direction,
+                                             corner_mean(mesh.F, design.flattened_vertex_shrinkage),
+                                             material, num_layers);
   // The simulation from the target (other stable shapes) is run once, on the design printed.
   RisePredictionOptions first_prediction = options.prediction;
   first_prediction.from_target = options.prediction.from_target && !options.optimize;
@@ -81,13 +96,13 @@ HeightFieldDesign design_height_field(const HeightField& field, const std::strin
   design.prediction = design.flattened_prediction;
   if (options.optimize) {
     report_progress(progress, {"optimize shrink", 0, 0, NAN, "adjoint Gauss-Newton"});
-    t = std::chrono::steady_clock::now();
+    t = Clock::now();
     ShrinkageProblem problem;
     problem.plate = plate;
     problem.F = mesh.F;
     problem.target = mesh.V;
     problem.direction = direction;
-    problem.material = material;
+    problem.material = with_curve_layers(material, num_layers);
     // The equilibrium the flat sheet reaches: the optimization follows that branch.
     problem.start = design.flattened_prediction.from_flat.V;
     OptimizeShrinkageOptions optimization = options.optimization;
@@ -104,9 +119,9 @@ HeightFieldDesign design_height_field(const HeightField& field, const std::strin
 
     // The judge: the printed stack simulated from the flat sheet again, as it will rise.
     report_progress(progress, {"simulate", 0, 0, NAN, "the optimized shrink, from the flat sheet"});
-    t = std::chrono::steady_clock::now();
-    HeightFieldPlate optimized_plate =
-        heightfield_plate(plate, mesh.F, direction, design.optimization.face_shrinkage, material);
+    t = Clock::now();
+    HeightFieldPlate optimized_plate = heightfield_plate(
+        plate, mesh.F, direction, design.optimization.face_shrinkage, material, num_layers);
     RisePrediction optimized_prediction =
         predict_rise(optimized_plate.design, mesh.V, options.prediction);
     design.times.final_prediction = seconds_since(t);
@@ -121,9 +136,10 @@ HeightFieldDesign design_height_field(const HeightField& field, const std::strin
 
   if (options.paths) {
     report_progress(progress, {"trajectories", 0, 0, NAN, "continuous paths along the isolines"});
-    t = std::chrono::steady_clock::now();
-    design.paths =
-        continuous_paths(mesh, plate, design.vertex_shrinkage, material, options.path_options);
+    t = Clock::now();
+    ContinuousPathOptions path_options = options.path_options;
+    path_options.num_layers = num_layers;
+    design.paths = continuous_paths(mesh, plate, design.vertex_shrinkage, material, path_options);
     design.times.paths = seconds_since(t);
   }
   design.times.total = seconds_since(start);

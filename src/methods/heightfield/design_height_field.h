@@ -21,6 +21,10 @@ namespace flatmorph {
 
 struct HeightFieldDesignOptions {
   Material material;  // with a thickness curve (the preset pla-geodesy, or a calibration's)
+  // Identical layers printed (SCF 2020 §6.4), in the stack that is simulated (the prediction, the
+  // optimization, flat.stack.json) and in the paths alike; 0: as many as the thickness curve was
+  // calibrated with (6 for pla-geodesy). path_options.num_layers is set from it, whatever it says.
+  int num_layers = 0;
   IsolineMeshOptions meshing;
   // The printable range and the growth across the paths are set from the material (its thickness
   // curve's reachable shrink, its λ2), whatever these say.

@@ -148,7 +148,7 @@ Vector2d gradient_in_face(const Surface& s, int f, const Vector2d& p) {
 }
 
 // A stretch [t0, t1] of a segment p + t (q - p) inside one face.
-struct Piece {
+struct WalkPiece {
   int face;
   double t0, t1;
 };
@@ -162,7 +162,7 @@ struct Walk {
 
 // Walks the straight segment from p (in face f) to q across the faces, recording the pieces.
 Walk walk_segment(const Surface& s, int f, const Vector2d& p, const Vector2d& q,
-                  std::vector<Piece>* pieces) {
+                  std::vector<WalkPiece>* pieces) {
   if (pieces) pieces->clear();
   double t = 0.0;
   int entry_local = -1;
@@ -548,7 +548,7 @@ struct Landing {
   double s = 0.0;  // arc length along that loop
 };
 
-struct Tracer {
+struct GradientTracer {
   const Surface* surface;
   const std::vector<Loop>* loops;
   const std::vector<LevelIndex>* index;
@@ -558,7 +558,7 @@ struct Tracer {
   double flat_slope;
 };
 
-Vector2d direction(const Tracer& t, int f, const Vector2d& p, double sign,
+Vector2d direction(const GradientTracer& t, int f, const Vector2d& p, double sign,
                    const Vector2d& previous) {
   const Vector2d g = gradient_in_face(*t.surface, f, p);
   const double n = g.norm();
@@ -566,7 +566,7 @@ Vector2d direction(const Tracer& t, int f, const Vector2d& p, double sign,
 }
 
 // Projects p (in face f, at the height of level `level`) onto that level's loop there.
-Landing land(const Tracer& t, int level, int f, const Vector2d& p) {
+Landing land(const GradientTracer& t, int level, int f, const Vector2d& p) {
   const LevelIndex& index = (*t.index)[level];
   int loop = -1, segment = -1;
   bool found = index.find(f, loop, segment);
@@ -585,12 +585,12 @@ Landing land(const Tracer& t, int level, int f, const Vector2d& p) {
 
 // From p (in face f, at height `origin`) up or down to level `to_level`; `previous` is the
 // direction to keep over flat ground.
-Landing trace_from(const Tracer& t, int f, Vector2d p, double origin, int to_level, double sign,
-                   Vector2d previous) {
+Landing trace_from(const GradientTracer& t, int f, Vector2d p, double origin, int to_level,
+                   double sign, Vector2d previous) {
   const Surface& surface = *t.surface;
   const double target = (*t.heights)[to_level];
   const double retreat = 0.5 * std::abs(target - origin);
-  std::vector<Piece> pieces;
+  std::vector<WalkPiece> pieces;
   for (int i = 0; i < t.max_steps; ++i) {
     const Vector2d d1 = direction(t, f, p, sign, previous);
     const Vector2d mid = p + 0.5 * t.step * d1;
@@ -599,7 +599,7 @@ Landing trace_from(const Tracer& t, int f, Vector2d p, double origin, int to_lev
     const Vector2d q = p + t.step * d2;
     const Walk w = walk_segment(surface, f, p, q, &pieces);
     if (to_level > 0) {
-      for (const Piece& piece : pieces) {
+      for (const WalkPiece& piece : pieces) {
         const Vector2d a = p + piece.t0 * (q - p), b = p + piece.t1 * (q - p);
         const double za = height_in_face(surface, piece.face, a);
         const double zb = height_in_face(surface, piece.face, b);
@@ -630,7 +630,7 @@ Landing trace_from(const Tracer& t, int f, Vector2d p, double origin, int to_lev
   return {};
 }
 
-Landing trace(const Tracer& t, const Loop& from, double s, int to_level) {
+Landing trace(const GradientTracer& t, const Loop& from, double s, int to_level) {
   const LoopPoint start = point_at(from, s);
   const double sign = to_level > from.level ? 1.0 : -1.0;
   // The loop's left side is its higher side.
@@ -715,7 +715,7 @@ std::vector<Anchor> monotone(const std::vector<Anchor>& run, double parent_perim
   return best;
 }
 
-struct Run {
+struct AnchorRun {
   int begin, end;  // [begin, end) into the annulus' anchors
   int child;
 };
@@ -724,7 +724,7 @@ struct Run {
 struct Annulus {
   int parent = -1;
   std::vector<Anchor> anchors;  // around the parent, counter-clockwise
-  std::vector<Run> runs;        // consecutive anchors reaching one child
+  std::vector<AnchorRun> runs;  // consecutive anchors reaching one child
   bool cyclic = false;          // one child: the anchors go all around
 };
 
@@ -761,7 +761,7 @@ void organise_runs(Annulus& annulus, const std::vector<Loop>& loops, double gap)
     }
     std::rotate(a.begin(), a.begin() + start, a.end());
     std::vector<Anchor> kept;
-    std::vector<Run> runs;
+    std::vector<AnchorRun> runs;
     bool changed = false;
     for (int i = 0; i < n;) {
       int j = i;
@@ -787,7 +787,7 @@ void organise_runs(Annulus& annulus, const std::vector<Loop>& loops, double gap)
       annulus.runs = std::move(runs);
       for (int child : parent.children) {
         bool reached = false;
-        for (const Run& r : annulus.runs) reached = reached || r.child == child;
+        for (const AnchorRun& r : annulus.runs) reached = reached || r.child == child;
         if (!reached) {
           throw std::logic_error(
               fmt::format("isoline_mesh: no gradient line joins the loop at {} to its parent",
@@ -810,8 +810,8 @@ void organise_runs(Annulus& annulus, const std::vector<Loop>& loops, double gap)
 // chain and polygon between them stay small (notes §2 steps 2, 6). Each child keeps at least
 // `separation` of its loop free between the runs that reach it (the polygon's side there): the
 // bisection backs off where two saddle sides would meet.
-void refine_transitions(Annulus& annulus, const std::vector<Loop>& loops, const Tracer& tracer,
-                        double gap, double separation) {
+void refine_transitions(Annulus& annulus, const std::vector<Loop>& loops,
+                        const GradientTracer& tracer, double gap, double separation) {
   if (annulus.cyclic) return;
   const Loop& parent = loops[annulus.parent];
   const double per = parent.perimeter();
@@ -1132,10 +1132,11 @@ Vector3d on_surface(const Builder& b, int from, const Vector2d& p, int& face) {
   return Vector3d(p.x(), p.y(), height_in_face(s, face, p));
 }
 
-}  // namespace
+// ---------------------------------------------------------------------------------------------
+// The stages of isoline_mesh, in order.
 
-IsolineMesh isoline_mesh(const HeightField& field, const IsolineMeshOptions& options,
-                         const std::string& source) {
+// Refuses options that are negative or not finite (l_u must also be positive).
+void check_isoline_mesh_options(const IsolineMeshOptions& options, const std::string& source) {
   for (const auto& [name, value, zero_ok] :
        {std::tuple<const char*, double, bool>{"level spacing", options.level_spacing_mm, true},
         {"upsample length", options.upsample_length_mm, false},
@@ -1147,24 +1148,40 @@ IsolineMesh isoline_mesh(const HeightField& field, const IsolineMeshOptions& opt
                       zero_ok ? "non-negative (0: automatic)" : "positive", value));
     }
   }
-  // Work on counter-clockwise faces (seen from +z), whichever way the field's faces turn.
+}
+
+// The field with its faces turned counter-clockwise seen from +z, when they turn the other way
+// (nothing when they already turn that way).
+std::optional<HeightField> counter_clockwise_field(const HeightField& field) {
   double area2 = 0.0;
   for (int f = 0; f < field.F.rows(); ++f) {
     const Eigen::Vector2d a = field.V.row(field.F(f, 0)).head<2>();
     area2 += cross2(Vector2d(field.V.row(field.F(f, 1)).head<2>()) - a,
                     Vector2d(field.V.row(field.F(f, 2)).head<2>()) - a);
   }
+  if (!(area2 < 0.0)) return std::nullopt;
   HeightField turned;
-  if (area2 < 0.0) {
-    turned.V = field.V;
-    turned.F = field.F;
-    turned.F.col(1).swap(turned.F.col(2));
-  }
-  const HeightField& ccw = area2 < 0.0 ? turned : field;
-  const Surface s = make_surface(ccw);
-  const int nv = static_cast<int>(field.V.rows());
+  turned.V = field.V;
+  turned.F = field.F;
+  turned.F.col(1).swap(turned.F.col(2));
+  return turned;
+}
 
-  // The boundary must be one isoline, the lowest (paper §6.1: loop 0).
+// The heights and lengths the meshing works at, from the field's level boundary and the options.
+struct IsolineScales {
+  double z_boundary = 0.0;   // the boundary's level: its mean height
+  double z_high = 0.0;       // the boundary's highest point
+  double z_top = 0.0;        // the field's highest point
+  double tolerance = 0.0;    // how far the boundary may stray from level
+  double spacing = 0.0;      // Δ, between equidistant levels
+  double l_u = 0.0;          // the longest printing edge
+  double gap_spacing = 0.0;  // between the gradient lines' starts along a loop
+};
+
+// The boundary must be one isoline, the lowest (paper §6.1: loop 0); the surface must rise above
+// it; the spacing must not make too many levels.
+IsolineScales isoline_scales(const Surface& s, const IsolineMeshOptions& options,
+                             const std::string& source) {
   double z_low = std::numeric_limits<double>::infinity(), z_high = -z_low, z_mean = 0.0;
   int highest = s.boundary.front();
   for (int v : s.boundary) {
@@ -1201,24 +1218,59 @@ IsolineMesh isoline_mesh(const HeightField& field, const IsolineMeshOptions& opt
                                 "choose at least {:.3f} mm",
                                 source, spacing, height / spacing, height, height / 10000.0));
   }
-  const double l_u = options.upsample_length_mm;
-  const double gap_spacing = options.gradient_spacing_mm > 0.0 ? options.gradient_spacing_mm
-                                                               : std::max(l_u, 2.0 * spacing);
+  IsolineScales scales;
+  scales.z_boundary = z_boundary;
+  scales.z_high = z_high;
+  scales.z_top = z_top;
+  scales.tolerance = tolerance;
+  scales.spacing = spacing;
+  scales.l_u = options.upsample_length_mm;
+  scales.gap_spacing = options.gradient_spacing_mm > 0.0 ? options.gradient_spacing_mm
+                                                         : std::max(scales.l_u, 2.0 * spacing);
+  return scales;
+}
 
-  // 1. Levels.
+// Step 1, the levels: the boundary's, then the equidistant ones with the saddle and summit
+// levels, from the critical points of the sweep from the top.
+struct IsolineLevels {
+  std::vector<int> order;       // the input vertices from the highest down
+  CriticalPoints cp;            // saddles and peaks
+  std::vector<double> heights;  // per level, ascending; heights[0] is the boundary's
+
+  int num_levels() const { return static_cast<int>(heights.size()); }
+};
+
+IsolineLevels isoline_levels(const Surface& s, const IsolineScales& scales,
+                             const IsolineMeshOptions& options) {
+  const int nv = static_cast<int>(s.z.size());
   std::vector<bool> on_boundary(nv, false);
   for (int v : s.boundary) on_boundary[v] = true;
-  const std::vector<int> order = descending_order(s);
-  const CriticalPoints cp = critical_points(s, order, on_boundary, z_boundary + tolerance);
-  std::vector<double> heights = {z_boundary};
-  for (double level : choose_levels(s, cp, z_boundary, z_high, z_top, spacing, options)) {
-    heights.push_back(level);
+  IsolineLevels levels;
+  levels.order = descending_order(s);
+  levels.cp = critical_points(s, levels.order, on_boundary, scales.z_boundary + scales.tolerance);
+  levels.heights = {scales.z_boundary};
+  for (double level : choose_levels(s, levels.cp, scales.z_boundary, scales.z_high, scales.z_top,
+                                    scales.spacing, options)) {
+    levels.heights.push_back(level);
   }
-  const int num_levels = static_cast<int>(heights.size());
+  return levels;
+}
 
-  // 2. Loops: loop 0 is the boundary, then the isolines level by level.
-  std::vector<Loop> loops(1);
-  std::vector<LevelIndex> index(num_levels);
+// Step 2, the loops: loop 0 is the boundary, then the isolines level by level; per level, which
+// loop crosses each face. Refuses a loop that runs the wrong way round (a pit) and isolines too
+// long to upsample.
+struct IsolineLoops {
+  std::vector<Loop> loops;
+  std::vector<LevelIndex> index;  // per level
+};
+
+IsolineLoops march_isoline_loops(const Surface& s, const std::vector<double>& heights, double l_u,
+                                 const std::string& source) {
+  const int num_levels = static_cast<int>(heights.size());
+  IsolineLoops out;
+  std::vector<Loop>& loops = out.loops;
+  loops.resize(1);
+  out.index.resize(num_levels);
   {
     Loop& boundary = loops[0];
     boundary.segment_face.assign(s.boundary.size(), -1);
@@ -1230,9 +1282,9 @@ IsolineMesh isoline_mesh(const HeightField& field, const IsolineMeshOptions& opt
       }
     }
     finish_loop(boundary);
-    index[0].loops = {0};
+    out.index[0].loops = {0};
   }
-  for (int d = 1; d < num_levels; ++d) march(s, heights[d], d, loops, index[d]);
+  for (int d = 1; d < num_levels; ++d) march(s, heights[d], d, loops, out.index[d]);
   double total_length = 0.0;
   for (const Loop& loop : loops) {
     total_length += loop.perimeter();
@@ -1249,83 +1301,162 @@ IsolineMesh isoline_mesh(const HeightField& field, const IsolineMeshOptions& opt
                                 "mm the mesh would pass {} vertices; choose a larger one",
                                 source, total_length, l_u, kMaxVertices));
   }
+  return out;
+}
 
-  // The loop tree: sweep from the top, and at each level find the superlevel component of
-  // each loop's inside (the loop above a loop one level down is its child).
-  {
-    UnionFind uf(nv);
-    std::vector<bool> done(nv, false);
-    int next = 0;
-    for (int d = num_levels - 1; d >= 1; --d) {
-      for (; next < nv && s.z[order[next]] > heights[d]; ++next) {
-        const int v = order[next];
-        done[v] = true;
-        for (int u : s.neighbours[v]) {
-          if (!done[u]) continue;
-          int a = uf.find(u), b = uf.find(v);
-          if (a == b) continue;
-          if (s.z[uf.top[a]] < s.z[uf.top[b]] ||
-              (s.z[uf.top[a]] == s.z[uf.top[b]] && uf.top[a] > uf.top[b])) {
-            std::swap(a, b);
-          }
-          uf.parent[b] = a;
+// The loop tree: sweep from the top, and at each level find the superlevel component of each
+// loop's inside (the loop above a loop one level down is its child). Sets each loop's parent,
+// children and summit; refuses two loops bounding one region (a pit).
+void build_loop_tree(IsolineLoops& isolines, const Surface& s, const IsolineLevels& levels,
+                     const std::string& source) {
+  std::vector<Loop>& loops = isolines.loops;
+  const std::vector<LevelIndex>& index = isolines.index;
+  const std::vector<int>& order = levels.order;
+  const std::vector<double>& heights = levels.heights;
+  const int num_levels = levels.num_levels();
+  const int nv = static_cast<int>(s.z.size());
+  UnionFind uf(nv);
+  std::vector<bool> done(nv, false);
+  int next = 0;
+  for (int d = num_levels - 1; d >= 1; --d) {
+    for (; next < nv && s.z[order[next]] > heights[d]; ++next) {
+      const int v = order[next];
+      done[v] = true;
+      for (int u : s.neighbours[v]) {
+        if (!done[u]) continue;
+        int a = uf.find(u), b = uf.find(v);
+        if (a == b) continue;
+        if (s.z[uf.top[a]] < s.z[uf.top[b]] ||
+            (s.z[uf.top[a]] == s.z[uf.top[b]] && uf.top[a] > uf.top[b])) {
+          std::swap(a, b);
         }
-      }
-      std::map<int, int> loop_of_root;
-      for (int id : index[d].loops) {
-        const int root = uf.find(loops[id].upper_vertex);
-        if (!loop_of_root.emplace(root, id).second) {
-          throw UserError(ErrorCategory::kGeometry,
-                          fmt::format("{}: a pit near {} (two isolines at {:.3f} mm bound one "
-                                      "region); fill it",
-                                      source, at_xy(loops[id].points[0]), heights[d]));
-        }
-        loops[id].summit = uf.top[root];
-      }
-      if (d + 1 < num_levels) {
-        for (int id : index[d + 1].loops) {
-          const auto it = loop_of_root.find(uf.find(loops[id].upper_vertex));
-          if (it == loop_of_root.end()) {
-            throw std::logic_error("isoline_mesh: an isoline has no parent one level below");
-          }
-          loops[id].parent = it->second;
-        }
+        uf.parent[b] = a;
       }
     }
-    if (num_levels > 1) {
-      for (int id : index[1].loops) loops[id].parent = 0;
+    std::map<int, int> loop_of_root;
+    for (int id : index[d].loops) {
+      const int root = uf.find(loops[id].upper_vertex);
+      if (!loop_of_root.emplace(root, id).second) {
+        throw UserError(ErrorCategory::kGeometry,
+                        fmt::format("{}: a pit near {} (two isolines at {:.3f} mm bound one "
+                                    "region); fill it",
+                                    source, at_xy(loops[id].points[0]), heights[d]));
+      }
+      loops[id].summit = uf.top[root];
     }
-    // The boundary's summit: the highest vertex of all.
-    loops[0].summit = order.front();
-    for (int id = 1; id < static_cast<int>(loops.size()); ++id) {
-      loops[loops[id].parent].children.push_back(id);
+    if (d + 1 < num_levels) {
+      for (int id : index[d + 1].loops) {
+        const auto it = loop_of_root.find(uf.find(loops[id].upper_vertex));
+        if (it == loop_of_root.end()) {
+          throw std::logic_error("isoline_mesh: an isoline has no parent one level below");
+        }
+        loops[id].parent = it->second;
+      }
     }
   }
+  if (num_levels > 1) {
+    for (int id : index[1].loops) loops[id].parent = 0;
+  }
+  // The boundary's summit: the highest vertex of all.
+  loops[0].summit = order.front();
+  for (int id = 1; id < static_cast<int>(loops.size()); ++id) {
+    loops[loops[id].parent].children.push_back(id);
+  }
+}
 
-  // 3. Gradient lines between each loop and its children: anchors.
+// The gradient-line tracer over the loops: steps a quarter of the finest length around (input
+// edges, l_u, the gradient lines' spacing), at most four times the field's diagonal long.
+GradientTracer make_gradient_tracer(const Surface& s, const HeightField& field,
+                                    const IsolineLoops& isolines, const IsolineLevels& levels,
+                                    const IsolineScales& scales) {
   double mean_edge = 0.0;
   for (int e = 0; e < s.topo.num_edges(); ++e) {
     mean_edge += (s.xy[s.topo.edges(e, 0)] - s.xy[s.topo.edges(e, 1)]).norm();
   }
   mean_edge /= std::max(1, s.topo.num_edges());
-  Tracer tracer{&s, &loops, &index, &heights, 0.0, 0, 1e-4};
-  tracer.step = 0.25 * std::min({mean_edge, l_u, gap_spacing});
-  {
-    const Eigen::Vector2d lo = field.V.leftCols(2).colwise().minCoeff();
-    const Eigen::Vector2d hi = field.V.leftCols(2).colwise().maxCoeff();
-    tracer.max_steps = static_cast<int>(4.0 * (hi - lo).norm() / tracer.step) + 16;
+  GradientTracer tracer{&s, &isolines.loops, &isolines.index, &levels.heights, 0.0, 0, 1e-4};
+  tracer.step = 0.25 * std::min({mean_edge, scales.l_u, scales.gap_spacing});
+  const Eigen::Vector2d lo = field.V.leftCols(2).colwise().minCoeff();
+  const Eigen::Vector2d hi = field.V.leftCols(2).colwise().maxCoeff();
+  tracer.max_steps = static_cast<int>(4.0 * (hi - lo).norm() / tracer.step) + 16;
+  return tracer;
+}
+
+// Where gradient lines start along a loop: evenly, about gap_spacing apart, at least 8.
+std::vector<double> gradient_line_starts(const Loop& loop, double gap_spacing) {
+  const int n = std::max(8, static_cast<int>(std::ceil(loop.perimeter() / gap_spacing)));
+  std::vector<double> out;
+  for (int i = 0; i < n; ++i) out.push_back(loop.perimeter() * i / n);
+  return out;
+}
+
+// Adds the pinned anchors of `parent` (on saddles' descending separatrices) to the annulus' runs;
+// each pinned anchor goes into the first run of its child that takes it.
+void pin_separatrix_anchors(Annulus& annulus, const std::vector<Anchor>& pinned,
+                            const std::vector<Loop>& loops, double local_gap) {
+  const Loop& parent = loops[annulus.parent];
+  if (annulus.cyclic) {
+    for (const Anchor& f : pinned) {
+      pin(annulus.anchors, f, parent.perimeter(), loops[f.child].perimeter(), local_gap, true);
+    }
+    annulus.runs = {{0, static_cast<int>(annulus.anchors.size()), parent.children[0]}};
+    return;
   }
-  const auto samples = [&](const Loop& loop) {
-    const int n = std::max(8, static_cast<int>(std::ceil(loop.perimeter() / gap_spacing)));
-    std::vector<double> out;
-    for (int i = 0; i < n; ++i) out.push_back(loop.perimeter() * i / n);
-    return out;
-  };
-  const double gap = 0.5 * gap_spacing;
+  if (pinned.empty()) return;
+  std::vector<std::vector<Anchor>> runs;
+  for (const AnchorRun& r : annulus.runs) {
+    runs.emplace_back(annulus.anchors.begin() + r.begin, annulus.anchors.begin() + r.end);
+  }
+  for (const Anchor& f : pinned) {
+    for (size_t r = 0; r < runs.size(); ++r) {
+      if (annulus.runs[r].child == f.child &&
+          pin(runs[r], f, parent.perimeter(), loops[f.child].perimeter(), local_gap, false)) {
+        break;
+      }
+    }
+  }
+  annulus.anchors.clear();
+  for (size_t r = 0; r < runs.size(); ++r) {
+    annulus.runs[r].begin = static_cast<int>(annulus.anchors.size());
+    annulus.anchors.insert(annulus.anchors.end(), runs[r].begin(), runs[r].end());
+    annulus.runs[r].end = static_cast<int>(annulus.anchors.size());
+  }
+}
+
+// Where the gradient lines switch children, a saddle's descending separatrix leaves the parent:
+// follow it down to the boundary, one pinned anchor per strip it crosses (into `pinned`, per
+// parent loop).
+void follow_separatrices_down(const Annulus& annulus, const std::vector<Loop>& loops,
+                              const GradientTracer& tracer,
+                              std::vector<std::vector<Anchor>>& pinned) {
+  const Loop& parent = loops[annulus.parent];
+  for (size_t r = 0; !annulus.cyclic && r < annulus.runs.size(); ++r) {
+    const Anchor& x = annulus.anchors[annulus.runs[r].end - 1];
+    const Anchor& y = annulus.anchors[annulus.runs[(r + 1) % annulus.runs.size()].begin];
+    const double per = parent.perimeter();
+    Landing current{annulus.parent,
+                    wrap(x.s_parent + 0.5 * wrap(y.s_parent - x.s_parent, per), per)};
+    while (current.loop > 0) {
+      const Loop& child = loops[current.loop];
+      const Landing next = trace(tracer, child, current.s, child.level - 1);
+      if (next.loop < 0 || next.loop != child.parent) break;
+      Anchor f{next.s, current.loop, current.s};
+      f.pinned = true;
+      pinned[next.loop].push_back(f);
+      current = next;
+    }
+  }
+}
+
+// Step 3, gradient lines between each loop and its children: the anchors of each annulus, traced
+// from both loops, made monotone, refined at the saddles and pinned along the separatrices. From
+// the top down, so that the separatrices found at a saddle reach the strips below.
+std::vector<Annulus> anchor_annuli(const std::vector<Loop>& loops, const GradientTracer& tracer,
+                                   const IsolineScales& scales) {
+  const double gap = 0.5 * scales.gap_spacing;
   // Pinned anchors per parent loop: the descending separatrices of the saddles (see pin()).
   std::vector<std::vector<Anchor>> pinned(loops.size());
   std::vector<Annulus> annuli;
-  // From the top down, so that the separatrices found at a saddle reach the strips below.
   std::vector<int> top_down(loops.size());
   std::iota(top_down.begin(), top_down.end(), 0);
   std::stable_sort(top_down.begin(), top_down.end(),
@@ -1335,12 +1466,12 @@ IsolineMesh isoline_mesh(const HeightField& field, const IsolineMeshOptions& opt
     if (parent.children.empty()) continue;
     Annulus annulus;
     annulus.parent = id;
-    for (double sp : samples(parent)) {
+    for (double sp : gradient_line_starts(parent, scales.gap_spacing)) {
       const Landing l = trace(tracer, parent, sp, parent.level + 1);
       if (l.loop >= 0 && loops[l.loop].parent == id) annulus.anchors.push_back({sp, l.loop, l.s});
     }
     for (int child : parent.children) {
-      for (double sc : samples(loops[child])) {
+      for (double sc : gradient_line_starts(loops[child], scales.gap_spacing)) {
         const Landing l = trace(tracer, loops[child], sc, parent.level);
         if (l.loop == id) annulus.anchors.push_back({l.s, child, sc});
       }
@@ -1350,592 +1481,668 @@ IsolineMesh isoline_mesh(const HeightField& field, const IsolineMeshOptions& opt
     for (int child : parent.children)
       local_gap = std::min(local_gap, loops[child].perimeter() / 8.0);
     organise_runs(annulus, loops, local_gap);
-    refine_transitions(annulus, loops, tracer, local_gap, 0.5 * std::min(l_u, local_gap));
-    if (annulus.cyclic) {
-      for (const Anchor& f : pinned[id]) {
-        pin(annulus.anchors, f, parent.perimeter(), loops[f.child].perimeter(), local_gap, true);
-      }
-      annulus.runs = {{0, static_cast<int>(annulus.anchors.size()), parent.children[0]}};
-    } else if (!pinned[id].empty()) {
-      std::vector<std::vector<Anchor>> runs;
-      for (const Run& r : annulus.runs) {
-        runs.emplace_back(annulus.anchors.begin() + r.begin, annulus.anchors.begin() + r.end);
-      }
-      for (const Anchor& f : pinned[id]) {
-        for (size_t r = 0; r < runs.size(); ++r) {
-          if (annulus.runs[r].child == f.child &&
-              pin(runs[r], f, parent.perimeter(), loops[f.child].perimeter(), local_gap, false)) {
-            break;
-          }
-        }
-      }
-      annulus.anchors.clear();
-      for (size_t r = 0; r < runs.size(); ++r) {
-        annulus.runs[r].begin = static_cast<int>(annulus.anchors.size());
-        annulus.anchors.insert(annulus.anchors.end(), runs[r].begin(), runs[r].end());
-        annulus.runs[r].end = static_cast<int>(annulus.anchors.size());
-      }
-    }
-    // Where the gradient lines switch children, a saddle's descending separatrix leaves the
-    // parent: follow it down to the boundary, one pinned anchor per strip it crosses.
-    for (size_t r = 0; !annulus.cyclic && r < annulus.runs.size(); ++r) {
-      const Anchor& x = annulus.anchors[annulus.runs[r].end - 1];
-      const Anchor& y = annulus.anchors[annulus.runs[(r + 1) % annulus.runs.size()].begin];
-      const double per = parent.perimeter();
-      Landing current{id, wrap(x.s_parent + 0.5 * wrap(y.s_parent - x.s_parent, per), per)};
-      while (current.loop > 0) {
-        const Loop& child = loops[current.loop];
-        const Landing next = trace(tracer, child, current.s, child.level - 1);
-        if (next.loop < 0 || next.loop != child.parent) break;
-        Anchor f{next.s, current.loop, current.s};
-        f.pinned = true;
-        pinned[next.loop].push_back(f);
-        current = next;
-      }
-    }
+    refine_transitions(annulus, loops, tracer, local_gap, 0.5 * std::min(scales.l_u, local_gap));
+    pin_separatrix_anchors(annulus, pinned[id], loops, local_gap);
+    follow_separatrices_down(annulus, loops, tracer, pinned);
     annuli.push_back(std::move(annulus));
   }
+  return annuli;
+}
 
-  // 4. The loops' vertices: the anchors (close ones merged), the boundary's own vertices, and
-  //    enough between them that no printing edge is longer than l_u.
-  // No two consecutive vertices of a loop closer than l_u / 4 (a sixteenth of a small loop): a
-  // shorter printing edge is the base of a needle triangle, which the sheet's simulation cannot
-  // settle. Anchors that close join one vertex (their gradient lines move by at most that much).
-  std::vector<double> min_gap(loops.size());
-  for (size_t id = 0; id < loops.size(); ++id) {
-    min_gap[id] = std::min(kMinEdgeFraction * l_u, loops[id].perimeter() / kMinLoopPieces);
+// A place on a loop that becomes a vertex: an input boundary vertex or one end of an anchor.
+struct LoopMark {
+  double s;
+  bool fixed;      // an input boundary vertex: keep it where it is
+  Anchor* anchor;  // or the anchor it places
+  bool as_parent;
+};
+using LoopMarkGroup = std::pair<double, std::vector<LoopMark*>>;  // a vertex's arc length, marks
+
+bool has_fixed_mark(const LoopMarkGroup& g) {
+  return std::any_of(g.second.begin(), g.second.end(), [](const LoopMark* m) { return m->fixed; });
+}
+
+// Joins the groups (sorted along a loop of perimeter `per`) closer than `least` apart: first
+// into the nearest input boundary vertex (which stays), then each into the one before it, whose
+// place the joined vertex takes, so that the vertices kept are `least` apart (input boundary
+// vertices closer than that to each other stay as they are).
+void space_mark_groups(std::vector<LoopMarkGroup>& groups, double per, double least) {
+  std::vector<int> fixed;
+  for (int g = 0; g < static_cast<int>(groups.size()); ++g) {
+    if (has_fixed_mark(groups[g])) fixed.push_back(g);
   }
-  Builder b;
-  b.surface = &s;
-  {
-    struct Mark {
-      double s;
-      bool fixed;      // an input boundary vertex: keep it where it is
-      Anchor* anchor;  // or the anchor it places
-      bool as_parent;
-    };
-    std::vector<std::vector<Mark>> marks(loops.size());
-    for (size_t k = 0; k < s.boundary.size(); ++k) {
-      marks[0].push_back({loops[0].length[k], true, nullptr, false});
+  std::vector<LoopMarkGroup> kept;
+  if (!fixed.empty()) {
+    std::vector<int> into(groups.size(), -1);
+    const int nf = static_cast<int>(fixed.size());
+    for (int g = 0, next = 0; g < static_cast<int>(groups.size()); ++g) {
+      while (next < nf && fixed[next] < g) ++next;
+      if (next < nf && fixed[next] == g) continue;
+      const int after = fixed[next % nf], before = fixed[(next + nf - 1) % nf];
+      const double d_after = wrap(groups[after].first - groups[g].first, per);
+      const double d_before = wrap(groups[g].first - groups[before].first, per);
+      if (std::min(d_after, d_before) < least) into[g] = d_after < d_before ? after : before;
     }
-    for (Annulus& annulus : annuli) {
-      for (Anchor& a : annulus.anchors) {
-        marks[annulus.parent].push_back({a.s_parent, false, &a, true});
-        marks[a.child].push_back({a.s_child, false, &a, false});
-      }
+    for (int g = 0; g < static_cast<int>(groups.size()); ++g) {
+      if (into[g] < 0) continue;
+      for (LoopMark* mark : groups[g].second) groups[into[g]].second.push_back(mark);
     }
-    const double merge = 0.02 * std::min(l_u, gap_spacing);
-    using Group = std::pair<double, std::vector<Mark*>>;  // a vertex's arc length, its marks
-    const auto is_fixed = [](const Group& g) {
-      return std::any_of(g.second.begin(), g.second.end(), [](const Mark* m) { return m->fixed; });
-    };
-    // Joins the groups (sorted along a loop of perimeter `per`) closer than `least` apart: first
-    // into the nearest input boundary vertex (which stays), then each into the one before it,
-    // whose place the joined vertex takes, so that the vertices kept are `least` apart (input
-    // boundary vertices closer than that to each other stay as they are).
-    const auto space_groups = [&](std::vector<Group>& groups, double per, double least) {
-      std::vector<int> fixed;
-      for (int g = 0; g < static_cast<int>(groups.size()); ++g) {
-        if (is_fixed(groups[g])) fixed.push_back(g);
-      }
-      std::vector<Group> kept;
-      if (!fixed.empty()) {
-        std::vector<int> into(groups.size(), -1);
-        const int nf = static_cast<int>(fixed.size());
-        for (int g = 0, next = 0; g < static_cast<int>(groups.size()); ++g) {
-          while (next < nf && fixed[next] < g) ++next;
-          if (next < nf && fixed[next] == g) continue;
-          const int after = fixed[next % nf], before = fixed[(next + nf - 1) % nf];
-          const double d_after = wrap(groups[after].first - groups[g].first, per);
-          const double d_before = wrap(groups[g].first - groups[before].first, per);
-          if (std::min(d_after, d_before) < least) into[g] = d_after < d_before ? after : before;
-        }
-        for (int g = 0; g < static_cast<int>(groups.size()); ++g) {
-          if (into[g] < 0) continue;
-          for (Mark* mark : groups[g].second) groups[into[g]].second.push_back(mark);
-        }
-        for (int g = 0; g < static_cast<int>(groups.size()); ++g) {
-          if (into[g] < 0) kept.push_back(std::move(groups[g]));
-        }
-        groups = std::move(kept);
-        kept.clear();
-      }
-      for (Group& g : groups) {
-        if (!kept.empty() && !is_fixed(g) && !is_fixed(kept.back()) &&
-            g.first - kept.back().first < least) {
-          for (Mark* mark : g.second) kept.back().second.push_back(mark);
-        } else {
-          kept.push_back(std::move(g));
-        }
-      }
-      if (kept.size() > 1 && !is_fixed(kept.front()) && !is_fixed(kept.back()) &&
-          kept.front().first + per - kept.back().first < least) {
-        for (Mark* mark : kept.back().second) kept.front().second.push_back(mark);
-        kept.pop_back();
-      }
-      groups = std::move(kept);
-    };
-    // Per loop segment: the room to the next loops, about the height to the nearer neighbouring
-    // level over the slope there.
-    std::vector<std::vector<double>> room(loops.size());
-    for (size_t id = 1; id < loops.size(); ++id) {
-      const Loop& loop = loops[id];
-      double gap_height = heights[loop.level] - heights[loop.level - 1];
-      if (loop.level + 1 < num_levels) {
-        gap_height = std::min(gap_height, heights[loop.level + 1] - heights[loop.level]);
-      }
-      for (int k = 0; k < loop.num_segments(); ++k) {
-        room[id].push_back(gap_height / std::max(s.slope[loop.segment_face[k]], 1e-6));
-      }
+    for (int g = 0; g < static_cast<int>(groups.size()); ++g) {
+      if (into[g] < 0) kept.push_back(std::move(groups[g]));
     }
-    for (int id = 0; id < static_cast<int>(loops.size()); ++id) {
-      Loop& loop = loops[id];
-      const double per = loop.perimeter();
-      std::vector<Mark>& m = marks[id];
-      for (Mark& mark : m) mark.s = wrap(mark.s, per);
-      std::stable_sort(m.begin(), m.end(), [](const Mark& x, const Mark& y) {
-        return x.s != y.s ? x.s < y.s : x.fixed > y.fixed;
-      });
-      if (m.empty()) m.push_back({0.0, false, nullptr, false});
-      // Groups of marks closer than `merge`, each one vertex (at a fixed mark if it has one).
-      std::vector<Group> groups;
-      for (Mark& mark : m) {
-        if (!groups.empty() && mark.s - groups.back().second.front()->s < merge &&
-            !(mark.fixed && groups.back().second.front()->fixed)) {
-          if (mark.fixed) groups.back().first = mark.s;
-          groups.back().second.push_back(&mark);
-        } else {
-          groups.push_back({mark.s, {&mark}});
-        }
-      }
-      if (groups.size() > 1 && groups.front().first + per - groups.back().first < merge &&
-          !(groups.front().second.front()->fixed && groups.back().second.front()->fixed)) {
-        if (groups.back().second.front()->fixed) groups.front().first = groups.back().first;
-        for (Mark* mark : groups.back().second) groups.front().second.push_back(mark);
-        groups.pop_back();
-      }
-      space_groups(groups, per, min_gap[id]);
-      const double z = heights[loop.level];
-      const auto vertex_at = [&](double sv) {
-        const LoopPoint lp = point_at(loop, sv);
-        const int v = b.add_vertex(Vector3d(lp.p.x(), lp.p.y(), z), loop.level, id,
-                                   loop.segment_face[lp.segment]);
-        b.param[v] = wrap(sv, per);
-        return v;
-      };
-      for (size_t g = 0; g < groups.size(); ++g) {
-        const double s0 = groups[g].first;
-        double s1 = groups[(g + 1) % groups.size()].first;
-        if (s1 <= s0) s1 += per;
-        const int position = static_cast<int>(loop.vertices.size());
-        const int v = vertex_at(s0);
-        loop.vertices.push_back(v);
-        for (Mark* mark : groups[g].second) {
-          if (!mark->anchor) continue;
-          if (mark->as_parent) {
-            mark->anchor->parent_vertex = v, mark->anchor->parent_position = position;
-          } else {
-            mark->anchor->child_vertex = v, mark->anchor->child_position = position;
-          }
-        }
-        // Equal pieces no longer than l_u, halved where a chord would stray from the isoline
-        // by more than a quarter of the room to the next (it could cross it).
-        const int pieces = std::max(1, static_cast<int>(std::ceil((s1 - s0) / l_u - 1e-9)));
-        std::vector<std::pair<double, double>> todo;
-        for (int i = pieces - 1; i >= 0; --i) {
-          todo.push_back({s0 + (s1 - s0) * i / pieces, s0 + (s1 - s0) * (i + 1) / pieces});
-        }
-        bool first = true;
-        while (!todo.empty()) {
-          const auto [sa, sb] = todo.back();
-          todo.pop_back();
-          double deviation = 0.0, least_room = 0.0;
-          if (id > 0) chord_fit(loop, room[id], sa, sb, deviation, least_room);
-          if (id > 0 && deviation > 0.25 * least_room && sb - sa >= 2.0 * min_gap[id]) {
-            const double mid = 0.5 * (sa + sb);
-            todo.push_back({mid, sb});
-            todo.push_back({sa, mid});
-            continue;
-          }
-          if (!first) loop.vertices.push_back(vertex_at(sa));
-          first = false;
-        }
-      }
+    groups = std::move(kept);
+    kept.clear();
+  }
+  for (LoopMarkGroup& g : groups) {
+    if (!kept.empty() && !has_fixed_mark(g) && !has_fixed_mark(kept.back()) &&
+        g.first - kept.back().first < least) {
+      for (LoopMark* mark : g.second) kept.back().second.push_back(mark);
+    } else {
+      kept.push_back(std::move(g));
     }
   }
-  // A centre for a fan over `polygon` when the preferred one does not see all of it: its
-  // kernel's centroid, on the surface; the preferred one (and a flipped fan, caught below) when
-  // there is no kernel.
-  const auto fan_point = [&](const std::vector<int>& polygon, const std::vector<Vector2d>& outline,
-                             const Vector3d& preferred) {
-    const std::optional<Vector2d> k = kernel_centroid(outline);
-    if (!k) return preferred;
-    int face = -1;
-    return on_surface(b, polygon.front(), *k, face);
-  };
-  // 5. Strips, saddle chains and polygons, caps.
-  std::vector<std::array<int, 3>> faces;
-  const auto emit = [&](const std::vector<std::array<int, 3>>& out) {
-    for (const auto& f : out) b.add_face(f[0], f[1], f[2]);
-  };
-  // A saddle chain at `level` from vertex p to vertex q (both on loops; notes §2 step 2):
-  // straight, or bent at `via`; its inner vertices on the surface, no piece longer than l_u.
-  const auto make_chain = [&](int p, int q, int level, const Vector2d* via) {
-    std::vector<int> chain = {p};
-    std::vector<Vector2d> corners = {b.V[p].head<2>()};
-    if (via) corners.push_back(*via);
-    corners.push_back(b.V[q].head<2>());
-    for (size_t c = 0; c + 1 < corners.size(); ++c) {
-      const Vector2d from = corners[c], to = corners[c + 1];
-      const Vector3d end = c + 2 == corners.size() ? b.V[q] : Vector3d::Zero();
-      for (int pieces = std::max(1, static_cast<int>(std::ceil((to - from).norm() / l_u)));;
-           ++pieces) {
-        std::vector<Vector3d> points;
-        std::vector<int> point_faces;
-        for (int i = 1; i <= pieces; ++i) {
-          if (i == pieces && c + 2 == corners.size()) break;
-          int face = -1;
-          points.push_back(
-              on_surface(b, p, from + (to - from) * (static_cast<double>(i) / pieces), face));
-          point_faces.push_back(face);
-        }
-        Vector3d last = b.V[chain.back()];
-        double longest = 0.0;
-        for (const Vector3d& point : points) {
-          longest = std::max(longest, (point - last).norm());
-          last = point;
-        }
-        if (c + 2 == corners.size()) longest = std::max(longest, (end - last).norm());
-        if (longest <= l_u || pieces > 100000) {
-          for (size_t i = 0; i < points.size(); ++i) {
-            chain.push_back(b.add_vertex(points[i], level, -1, point_faces[i]));
-          }
-          break;
-        }
-      }
+  if (kept.size() > 1 && !has_fixed_mark(kept.front()) && !has_fixed_mark(kept.back()) &&
+      kept.front().first + per - kept.back().first < least) {
+    for (LoopMark* mark : kept.back().second) kept.front().second.push_back(mark);
+    kept.pop_back();
+  }
+  groups = std::move(kept);
+}
+
+// The marks of one loop, sorted (input vertices first at equal arc length), in groups of marks
+// closer than `merge`, each one vertex (at a fixed mark if it has one).
+std::vector<LoopMarkGroup> group_loop_marks(std::vector<LoopMark>& m, double per, double merge) {
+  for (LoopMark& mark : m) mark.s = wrap(mark.s, per);
+  std::stable_sort(m.begin(), m.end(), [](const LoopMark& x, const LoopMark& y) {
+    return x.s != y.s ? x.s < y.s : x.fixed > y.fixed;
+  });
+  if (m.empty()) m.push_back({0.0, false, nullptr, false});
+  std::vector<LoopMarkGroup> groups;
+  for (LoopMark& mark : m) {
+    if (!groups.empty() && mark.s - groups.back().second.front()->s < merge &&
+        !(mark.fixed && groups.back().second.front()->fixed)) {
+      if (mark.fixed) groups.back().first = mark.s;
+      groups.back().second.push_back(&mark);
+    } else {
+      groups.push_back({mark.s, {&mark}});
     }
-    chain.push_back(q);
-    return chain;
+  }
+  if (groups.size() > 1 && groups.front().first + per - groups.back().first < merge &&
+      !(groups.front().second.front()->fixed && groups.back().second.front()->fixed)) {
+    if (groups.back().second.front()->fixed) groups.front().first = groups.back().first;
+    for (LoopMark* mark : groups.back().second) groups.front().second.push_back(mark);
+    groups.pop_back();
+  }
+  return groups;
+}
+
+// Per loop segment: the room to the next loops, about the height to the nearer neighbouring level
+// over the slope there.
+std::vector<std::vector<double>> room_to_next_loops(const std::vector<Loop>& loops,
+                                                    const std::vector<double>& heights,
+                                                    const Surface& s) {
+  const int num_levels = static_cast<int>(heights.size());
+  std::vector<std::vector<double>> room(loops.size());
+  for (size_t id = 1; id < loops.size(); ++id) {
+    const Loop& loop = loops[id];
+    double gap_height = heights[loop.level] - heights[loop.level - 1];
+    if (loop.level + 1 < num_levels) {
+      gap_height = std::min(gap_height, heights[loop.level + 1] - heights[loop.level]);
+    }
+    for (int k = 0; k < loop.num_segments(); ++k) {
+      room[id].push_back(gap_height / std::max(s.slope[loop.segment_face[k]], 1e-6));
+    }
+  }
+  return room;
+}
+
+// The vertices of loop `id`, one per group and between them equal pieces no longer than l_u,
+// halved where a chord would stray from the isoline by more than a quarter of the room to the
+// next (it could cross it). Each anchor learns its vertex and position on the loop.
+void place_vertices_on_loop(Builder& b, Loop& loop, int id, std::vector<LoopMarkGroup>& groups,
+                            const std::vector<double>& room, double z, double l_u, double min_gap) {
+  const double per = loop.perimeter();
+  const auto vertex_at = [&](double sv) {
+    const LoopPoint lp = point_at(loop, sv);
+    const int v = b.add_vertex(Vector3d(lp.p.x(), lp.p.y(), z), loop.level, id,
+                               loop.segment_face[lp.segment]);
+    b.param[v] = wrap(sv, per);
+    return v;
   };
-  // The saddle a chain from p to q passes: a saddle vertex between the levels of `parent` and
-  // its children, the nearest to the chain's middle, if one is that close (nullptr if none).
-  const auto saddle_near = [&](const Loop& parent, int p, int q) -> const Saddle* {
-    const Vector2d middle = 0.5 * (b.V[p] + b.V[q]).head<2>();
-    const Saddle* best = nullptr;
-    double best_distance = (b.V[p] - b.V[q]).head<2>().norm();
-    for (const Saddle& saddle : cp.saddles) {
-      if (saddle.z <= heights[parent.level] || saddle.z >= heights[parent.level + 1]) continue;
-      const double d = (s.xy[saddle.vertex] - middle).norm();
-      if (d < best_distance) best_distance = d, best = &saddle;
-    }
-    return best;
-  };
-  const auto forward = [](int from, int to, int m) { return (to - from + m) % m; };
-  for (Annulus& annulus : annuli) {
-    const Loop& parent = loops[annulus.parent];
-    const int upper_level = parent.level + 1;
-    std::vector<Anchor>& a = annulus.anchors;
-    // The anchors around the parent; a strip between each two consecutive ones. Where the two
-    // reach different children, the strip's upper side is a saddle chain between them.
-    std::vector<int> order(a.size());
-    std::iota(order.begin(), order.end(), 0);
-    // Zips strip k (order[k] -> order[k + 1]); a saddle strip's chain is made, and kept when
-    // `commit`, else taken back.
-    const auto zip_strip = [&](int k, bool commit, std::vector<int>* chain_out) {
-      const int n = static_cast<int>(order.size());
-      const Anchor& x = a[order[k]];
-      const Anchor& y = a[order[(k + 1) % n]];
-      const bool full = n == 1;
-      const std::vector<int> lower = arc(parent, x.parent_position, y.parent_position, full);
-      if (x.child == y.child) {
-        return zip(b, lower, arc(loops[x.child], x.child_position, y.child_position, full), faces);
-      }
-      // The chain bends half-way from the saddle towards the parent: straight, it could cut
-      // across the parent's pinched waist when the crest between the children rises slowly.
-      const size_t mark = b.V.size();
-      const Saddle* saddle = saddle_near(parent, x.child_vertex, y.child_vertex);
-      std::vector<int> chain;
-      bool ok = false;
-      for (int straight = saddle ? 0 : 1; straight <= 1 && !ok; ++straight) {
-        b.V.resize(mark), b.level.resize(mark), b.loop.resize(mark), b.hint.resize(mark);
-        b.param.resize(mark);
-        Vector2d via = Vector2d::Zero();
-        if (!straight) {
-          const Vector2d foot = 0.5 * (b.V[x.parent_vertex] + b.V[y.parent_vertex]).head<2>();
-          via = 0.5 * (s.xy[saddle->vertex] + foot);
-        }
-        chain = make_chain(x.child_vertex, y.child_vertex, upper_level, straight ? nullptr : &via);
-        ok = zip(b, lower, chain, faces);
-      }
-      if (!commit) {
-        b.V.resize(mark), b.level.resize(mark), b.loop.resize(mark), b.hint.resize(mark);
-        b.param.resize(mark);
-      } else if (chain_out) {
-        *chain_out = chain;
-      }
-      return ok;
-    };
-    // Anchors in the same run (reaching one child) as order[k], counted around.
-    const auto run_size = [&](int k) {
-      const int n = static_cast<int>(order.size());
-      int count = 1;
-      for (int i = 1; i < n && a[order[(k + i) % n]].child == a[order[k]].child; ++i) ++count;
-      for (int i = 1; i < n && a[order[(k - i + n) % n]].child == a[order[k]].child; ++i) ++count;
-      return std::min(count, n);
-    };
-    // Where a strip does not zip (its gradient lines, drawn straight, cut across a bent loop), an
-    // anchor slides a few vertices along its loop, or is dropped, merging two strips.
-    std::vector<char> dirty(order.size(), 1);  // strips to check
-    const int work_limit = 8 * static_cast<int>(a.size()) + 20;
-    for (int work = 0;; ++work) {
-      const int n = static_cast<int>(order.size());
-      const int failing = [&] {
-        for (int k = 0; k < n; ++k) {
-          if (!dirty[k]) continue;
-          dirty[k] = 0;
-          if (!zip_strip(k, false, nullptr)) return k;
-        }
-        return -1;
-      }();
-      if (failing < 0) break;
-      if (work > work_limit) {
-        throw std::logic_error(
-            fmt::format("isoline_mesh: the strip above the loop at {} cannot be zipped",
-                        at_xy(b.V[a[order[failing]].parent_vertex].head<2>())));
-      }
-      bool fixed = false;
-      for (int end = 1; end >= 0 && !fixed && n >= 3; --end) {
-        const int k = (failing + end) % n;  // the anchor to move
-        Anchor& x = a[order[k]];
-        const Anchor& w = a[order[(k + n - 1) % n]];
-        const Anchor& y = a[order[(k + 1) % n]];
-        const Anchor saved = x;
-        const int mp = static_cast<int>(parent.vertices.size());
-        const Loop& child = loops[x.child];
-        const int mc = static_cast<int>(child.vertices.size());
-        for (int step = 1; step <= 3 && !fixed; ++step) {
-          for (int side : {-1, 1}) {
-            for (int along_child = 0; along_child <= 1 && !fixed; ++along_child) {
-              x = saved;
-              if (along_child) {
-                // Only between two anchors on the same child.
-                if (w.child != x.child || y.child != x.child) continue;
-                const int c = (x.child_position + side * step + mc) % mc;
-                if (forward(w.child_position, c, mc) >
-                        forward(w.child_position, y.child_position, mc) ||
-                    c == w.child_position || c == y.child_position) {
-                  continue;
-                }
-                x.child_position = c;
-                x.child_vertex = child.vertices[c];
-              } else {
-                const int p = (x.parent_position + side * step + mp) % mp;
-                if (forward(w.parent_position, p, mp) >
-                    forward(w.parent_position, y.parent_position, mp)) {
-                  continue;
-                }
-                if ((p == w.parent_position && w.child == x.child &&
-                     w.child_position == x.child_position) ||
-                    (p == y.parent_position && y.child == x.child &&
-                     y.child_position == x.child_position)) {
-                  continue;
-                }
-                x.parent_position = p;
-                x.parent_vertex = parent.vertices[p];
-              }
-              fixed = zip_strip((k + n - 1) % n, false, nullptr) && zip_strip(k, false, nullptr);
-            }
-            if (fixed) break;
-          }
-        }
-        if (!fixed) {
-          x = saved;
-        } else {
-          dirty[(k + n - 1) % n] = dirty[k] = 1;
-        }
-      }
-      if (fixed) continue;
-      // Split the strip by a new gradient line, down from the upper vertex farthest from the
-      // parent (the tip of a notch the strip cannot reach into otherwise).
-      if (a[order[failing]].child == a[order[(failing + 1) % n]].child && n >= 2) {
-        const Anchor x = a[order[failing]], y = a[order[(failing + 1) % n]];
-        Loop& child = loops[x.child];
-        Loop& upper_parent = loops[annulus.parent];
-        const std::vector<int> upper = arc(child, x.child_position, y.child_position, false);
-        const std::vector<int> lower =
-            arc(upper_parent, x.parent_position, y.parent_position, false);
-        std::vector<std::pair<double, int>> candidates;  // (-distance, vertex)
-        for (size_t i = 1; i + 1 < upper.size(); ++i) {
-          double distance = std::numeric_limits<double>::infinity();
-          for (int l : lower) distance = std::min(distance, (b.V[upper[i]] - b.V[l]).norm());
-          candidates.push_back({-distance, upper[i]});
-        }
-        std::sort(candidates.begin(), candidates.end());
-        const double per = upper_parent.perimeter();
-        const double from = b.param[x.parent_vertex];
-        const double span =
-            x.parent_vertex == y.parent_vertex ? 0.0 : wrap(b.param[y.parent_vertex] - from, per);
-        bool split = false;
-        for (size_t c = 0; c < std::min<size_t>(candidates.size(), 4) && !split; ++c) {
-          const int u = candidates[c].second;
-          const Landing l = trace(tracer, child, b.param[u], upper_parent.level);
-          if (l.loop != annulus.parent) continue;
-          const double along = wrap(l.s - from, per);
-          if (!(along > 0.0 && along < span)) continue;
-          // The parent's vertex there: an existing one if close, else a new one between.
-          std::vector<int>& pv = upper_parent.vertices;
-          const int mp = static_cast<int>(pv.size());
-          int position = x.parent_position;
-          while (wrap(b.param[pv[(position + 1) % mp]] - from, per) <= along &&
-                 (position + 1) % mp != y.parent_position) {
-            position = (position + 1) % mp;
-          }
-          const int next = (position + 1) % mp;
-          const double merge_eps = min_gap[annulus.parent];
-          int vertex = -1;
-          if (along - wrap(b.param[pv[position]] - from, per) < merge_eps) {
-            vertex = pv[position];
-          } else if (wrap(b.param[pv[next]] - from, per) - along < merge_eps) {
-            vertex = pv[next];
-            position = next;
-          } else {
-            const LoopPoint lp = point_at(upper_parent, l.s);
-            vertex = b.add_vertex(Vector3d(lp.p.x(), lp.p.y(), heights[upper_parent.level]),
-                                  upper_parent.level, annulus.parent,
-                                  upper_parent.segment_face[lp.segment]);
-            b.param[vertex] = wrap(l.s, per);
-            position = position + 1;
-            pv.insert(pv.begin() + position, vertex);
-            // Shift every anchor's position past it, here and in the strips below this loop.
-            for (Annulus& other : annuli) {
-              for (Anchor& o : other.anchors) {
-                if (other.parent == annulus.parent && o.parent_position >= position) {
-                  ++o.parent_position;
-                }
-                if (o.child == annulus.parent && o.child_position >= position) ++o.child_position;
-              }
-            }
-          }
-          if (vertex == x.parent_vertex || vertex == y.parent_vertex) continue;
-          Anchor na{l.s, x.child, b.param[u]};
-          na.pinned = true;
-          na.parent_vertex = vertex;
-          na.parent_position = position;
-          na.child_vertex = u;
-          na.child_position = static_cast<int>(
-              std::find(child.vertices.begin(), child.vertices.end(), u) - child.vertices.begin());
-          a.push_back(na);
-          order.insert(order.begin() + failing + 1, static_cast<int>(a.size()) - 1);
-          dirty.insert(dirty.begin() + failing + 1, 1);
-          dirty[failing] = 1;
-          split = true;
-        }
-        if (split) continue;
-      }
-      // Drop the strip's later anchor, else its earlier one; a run keeps two, the annulus three.
-      bool dropped = false;
-      for (int end = 1; end >= 0 && !dropped; --end) {
-        const int k = (failing + end) % n;
-        if (n > 3 && (annulus.cyclic || run_size(k) > 2)) {
-          order.erase(order.begin() + k);
-          dirty.erase(dirty.begin() + k);
-          dirty[(k + n - 2) % (n - 1)] = 1;  // the merged strip
-          dropped = true;
-        }
-      }
-      if (!dropped) {
-        throw std::logic_error(
-            fmt::format("isoline_mesh: the strip above the loop at {} cannot be zipped",
-                        at_xy(b.V[a[order[failing]].parent_vertex].head<2>())));
-      }
-    }
-    // Emit the strips, making the saddle chains.
-    const int n = static_cast<int>(order.size());
-    std::vector<std::vector<int>> chain_after(n);  // the saddle chain after anchor k, if any
-    for (int k = 0; k < n; ++k) {
-      zip_strip(k, true, &chain_after[k]);
-      emit(faces);
-      const std::vector<int>& chain = chain_after[k];
-      for (size_t i = 0; i + 1 < chain.size(); ++i) b.add_printing(chain[i], chain[i + 1]);
-    }
-    if (annulus.cyclic) continue;
-    // Saddle polygons (notes §2 step 6): from each chain's end, back along its child (clockwise:
-    // the side the strips leave free) to the end of a run, then that run's chain, until closed.
-    std::vector<bool> used(n, false);
-    for (int k0 = 0; k0 < n; ++k0) {
-      if (chain_after[k0].empty() || used[k0]) continue;
-      std::vector<int> polygon;
-      for (int k = k0; !used[k];) {
-        used[k] = true;
-        const std::vector<int>& chain = chain_after[k];
-        polygon.insert(polygon.end(), chain.begin(), chain.end() - 1);
-        const Anchor& start_anchor = a[order[(k + 1) % n]];
-        const Loop& child = loops[start_anchor.child];
-        const int m = static_cast<int>(child.vertices.size());
-        const int start = start_anchor.child_position;
-        // The run end on this child that comes first going clockwise from `start` (all the
-        // way round if that is the end of the run starting here, on one vertex).
-        int own_end = (k + 1) % n;
-        while (chain_after[own_end].empty()) own_end = (own_end + 1) % n;
-        int best = -1, best_distance = m + 1;
-        for (int q = 0; q < n; ++q) {
-          if (chain_after[q].empty() || a[order[q]].child != start_anchor.child) continue;
-          int distance = forward(a[order[q]].child_position, start, m);
-          if (distance == 0 && q == own_end) distance = m;
-          if (distance < best_distance) best_distance = distance, best = q;
-        }
-        if (best < 0) throw std::logic_error("isoline_mesh: a saddle polygon does not close");
-        for (int i = 0; i < best_distance; ++i) {
-          polygon.push_back(child.vertices[(start - i + m) % m]);
-        }
-        k = best;
-      }
-      // The centre: the saddle inside the polygon (its true position), else the centroid.
-      std::vector<Vector2d> outline;
-      for (int v : polygon) outline.push_back(b.V[v].head<2>());
-      std::vector<Vector3d> candidates;
-      for (auto it = cp.saddles.rbegin(); it != cp.saddles.rend(); ++it) {
-        if (it->z > heights[parent.level] && it->z < heights[upper_level] &&
-            inside(outline, s.xy[it->vertex])) {
-          candidates.push_back(Vector3d(s.xy[it->vertex].x(), s.xy[it->vertex].y(), it->z));
-        }
-      }
-      // Else any point that sees the whole polygon (its kernel's centroid), on the surface.
-      const auto sees = std::find_if(candidates.begin(), candidates.end(),
-                                     [&](const Vector3d& c) { return fans(outline, c.head<2>()); });
-      Vector3d centre;
-      if (sees != candidates.end()) {
-        centre = *sees;
-      } else if (!candidates.empty()) {
-        centre = fan_point(polygon, outline, candidates.front());
+  for (size_t g = 0; g < groups.size(); ++g) {
+    const double s0 = groups[g].first;
+    double s1 = groups[(g + 1) % groups.size()].first;
+    if (s1 <= s0) s1 += per;
+    const int position = static_cast<int>(loop.vertices.size());
+    const int v = vertex_at(s0);
+    loop.vertices.push_back(v);
+    for (LoopMark* mark : groups[g].second) {
+      if (!mark->anchor) continue;
+      if (mark->as_parent) {
+        mark->anchor->parent_vertex = v, mark->anchor->parent_position = position;
       } else {
-        int face = -1;
-        const Vector2d mean = std::accumulate(outline.begin(), outline.end(), Vector2d(0, 0)) /
-                              static_cast<double>(outline.size());
-        centre = fan_point(polygon, outline, on_surface(b, polygon.front(), mean, face));
+        mark->anchor->child_vertex = v, mark->anchor->child_position = position;
       }
-      const int c = b.add_vertex(centre, -1, -1, -1);
-      for (size_t k = 0; k < polygon.size(); ++k) {
-        b.add_face(c, polygon[k], polygon[(k + 1) % polygon.size()]);
+    }
+    const int pieces = std::max(1, static_cast<int>(std::ceil((s1 - s0) / l_u - 1e-9)));
+    std::vector<std::pair<double, double>> todo;
+    for (int i = pieces - 1; i >= 0; --i) {
+      todo.push_back({s0 + (s1 - s0) * i / pieces, s0 + (s1 - s0) * (i + 1) / pieces});
+    }
+    bool first = true;
+    while (!todo.empty()) {
+      const auto [sa, sb] = todo.back();
+      todo.pop_back();
+      double deviation = 0.0, least_room = 0.0;
+      if (id > 0) chord_fit(loop, room, sa, sb, deviation, least_room);
+      if (id > 0 && deviation > 0.25 * least_room && sb - sa >= 2.0 * min_gap) {
+        const double mid = 0.5 * (sa + sb);
+        todo.push_back({mid, sb});
+        todo.push_back({sa, mid});
+        continue;
+      }
+      if (!first) loop.vertices.push_back(vertex_at(sa));
+      first = false;
+    }
+  }
+}
+
+// Step 4, the loops' vertices: the anchors (close ones merged), the boundary's own vertices, and
+// enough between them that no printing edge is longer than l_u (§6.1 "Triangulation"). Starts
+// the output mesh with them.
+void place_loop_vertices(Builder& b, std::vector<Loop>& loops, std::vector<Annulus>& annuli,
+                         const Surface& s, const std::vector<double>& heights,
+                         const std::vector<double>& min_gap, const IsolineScales& scales) {
+  std::vector<std::vector<LoopMark>> marks(loops.size());
+  for (size_t k = 0; k < s.boundary.size(); ++k) {
+    marks[0].push_back({loops[0].length[k], true, nullptr, false});
+  }
+  for (Annulus& annulus : annuli) {
+    for (Anchor& a : annulus.anchors) {
+      marks[annulus.parent].push_back({a.s_parent, false, &a, true});
+      marks[a.child].push_back({a.s_child, false, &a, false});
+    }
+  }
+  const double merge = 0.02 * std::min(scales.l_u, scales.gap_spacing);
+  const std::vector<std::vector<double>> room = room_to_next_loops(loops, heights, s);
+  for (int id = 0; id < static_cast<int>(loops.size()); ++id) {
+    Loop& loop = loops[id];
+    const double per = loop.perimeter();
+    std::vector<LoopMarkGroup> groups = group_loop_marks(marks[id], per, merge);
+    space_mark_groups(groups, per, min_gap[id]);
+    place_vertices_on_loop(b, loop, id, groups, room[id], heights[loop.level], scales.l_u,
+                           min_gap[id]);
+  }
+}
+
+// A centre for a fan over `polygon` when the preferred one does not see all of it: its kernel's
+// centroid, on the surface; the preferred one (and a flipped fan, caught at the end) when there is
+// no kernel.
+Vector3d fan_point(const Builder& b, const std::vector<int>& polygon,
+                   const std::vector<Vector2d>& outline, const Vector3d& preferred) {
+  const std::optional<Vector2d> k = kernel_centroid(outline);
+  if (!k) return preferred;
+  int face = -1;
+  return on_surface(b, polygon.front(), *k, face);
+}
+
+// A saddle chain at `level` from vertex p to vertex q (both on loops; notes §2 step 2): straight,
+// or bent at `via`; its inner vertices on the surface, no piece longer than l_u.
+std::vector<int> make_saddle_chain(Builder& b, int p, int q, int level, const Vector2d* via,
+                                   double l_u) {
+  std::vector<int> chain = {p};
+  std::vector<Vector2d> corners = {b.V[p].head<2>()};
+  if (via) corners.push_back(*via);
+  corners.push_back(b.V[q].head<2>());
+  for (size_t c = 0; c + 1 < corners.size(); ++c) {
+    const Vector2d from = corners[c], to = corners[c + 1];
+    const Vector3d end = c + 2 == corners.size() ? b.V[q] : Vector3d::Zero();
+    for (int pieces = std::max(1, static_cast<int>(std::ceil((to - from).norm() / l_u)));;
+         ++pieces) {
+      std::vector<Vector3d> points;
+      std::vector<int> point_faces;
+      for (int i = 1; i <= pieces; ++i) {
+        if (i == pieces && c + 2 == corners.size()) break;
+        int face = -1;
+        points.push_back(
+            on_surface(b, p, from + (to - from) * (static_cast<double>(i) / pieces), face));
+        point_faces.push_back(face);
+      }
+      Vector3d last = b.V[chain.back()];
+      double longest = 0.0;
+      for (const Vector3d& point : points) {
+        longest = std::max(longest, (point - last).norm());
+        last = point;
+      }
+      if (c + 2 == corners.size()) longest = std::max(longest, (end - last).norm());
+      if (longest <= l_u || pieces > 100000) {
+        for (size_t i = 0; i < points.size(); ++i) {
+          chain.push_back(b.add_vertex(points[i], level, -1, point_faces[i]));
+        }
+        break;
       }
     }
   }
-  // Caps (notes §2 step 5), fanned from the summit's true highest point rather than the loop's
-  // centroid, which would cut the summit flat.
-  for (Loop& loop : loops) {
+  chain.push_back(q);
+  return chain;
+}
+
+// Step 5's shared state: the mesh under construction and what its strips are zipped against.
+struct StripZipping {
+  Builder& b;
+  const Surface& s;
+  std::vector<Loop>& loops;
+  std::vector<Annulus>& annuli;
+  const std::vector<double>& heights;
+  const CriticalPoints& cp;
+  const GradientTracer& tracer;
+  const std::vector<double>& min_gap;
+  double l_u;
+};
+
+// One annulus while its strips are zipped: the anchors in order around the parent, a strip
+// between each two consecutive ones. Where the two reach different children, the strip's upper
+// side is a saddle chain between them.
+struct AnnulusStrips {
+  Annulus& annulus;
+  std::vector<int> order;                 // into annulus.anchors
+  std::vector<std::array<int, 3>> faces;  // of the strip zipped last
+};
+
+// Steps forward from position `from` to `to` around a loop of m vertices.
+int steps_forward(int from, int to, int m) { return (to - from + m) % m; }
+
+// The saddle a chain from p to q passes: a saddle vertex between the levels of `parent` and its
+// children, the nearest to the chain's middle, if one is that close (nullptr if none).
+const Saddle* saddle_near(const StripZipping& z, const Loop& parent, int p, int q) {
+  const Builder& b = z.b;
+  const Vector2d middle = 0.5 * (b.V[p] + b.V[q]).head<2>();
+  const Saddle* best = nullptr;
+  double best_distance = (b.V[p] - b.V[q]).head<2>().norm();
+  for (const Saddle& saddle : z.cp.saddles) {
+    if (saddle.z <= z.heights[parent.level] || saddle.z >= z.heights[parent.level + 1]) continue;
+    const double d = (z.s.xy[saddle.vertex] - middle).norm();
+    if (d < best_distance) best_distance = d, best = &saddle;
+  }
+  return best;
+}
+
+// Drops the vertices added from `mark` on: a saddle chain taken back.
+void take_back_vertices(Builder& b, size_t mark) {
+  b.V.resize(mark), b.level.resize(mark), b.loop.resize(mark), b.hint.resize(mark);
+  b.param.resize(mark);
+}
+
+// Zips strip k (order[k] -> order[k + 1]) into st.faces; a saddle strip's chain is made, and kept
+// when `commit` (into *chain_out), else taken back.
+bool zip_strip(StripZipping& z, AnnulusStrips& st, int k, bool commit,
+               std::vector<int>* chain_out) {
+  Builder& b = z.b;
+  const Loop& parent = z.loops[st.annulus.parent];
+  const std::vector<Anchor>& a = st.annulus.anchors;
+  const std::vector<int>& order = st.order;
+  const int n = static_cast<int>(order.size());
+  const Anchor& x = a[order[k]];
+  const Anchor& y = a[order[(k + 1) % n]];
+  const bool full = n == 1;
+  const std::vector<int> lower = arc(parent, x.parent_position, y.parent_position, full);
+  if (x.child == y.child) {
+    return zip(b, lower, arc(z.loops[x.child], x.child_position, y.child_position, full), st.faces);
+  }
+  // The chain bends half-way from the saddle towards the parent: straight, it could cut
+  // across the parent's pinched waist when the crest between the children rises slowly.
+  const size_t mark = b.V.size();
+  const Saddle* saddle = saddle_near(z, parent, x.child_vertex, y.child_vertex);
+  std::vector<int> chain;
+  bool ok = false;
+  for (int straight = saddle ? 0 : 1; straight <= 1 && !ok; ++straight) {
+    take_back_vertices(b, mark);
+    Vector2d via = Vector2d::Zero();
+    if (!straight) {
+      const Vector2d foot = 0.5 * (b.V[x.parent_vertex] + b.V[y.parent_vertex]).head<2>();
+      via = 0.5 * (z.s.xy[saddle->vertex] + foot);
+    }
+    chain = make_saddle_chain(b, x.child_vertex, y.child_vertex, parent.level + 1,
+                              straight ? nullptr : &via, z.l_u);
+    ok = zip(b, lower, chain, st.faces);
+  }
+  if (!commit) {
+    take_back_vertices(b, mark);
+  } else if (chain_out) {
+    *chain_out = chain;
+  }
+  return ok;
+}
+
+// Anchors in the same run (reaching one child) as order[k], counted around.
+int anchor_run_size(const AnnulusStrips& st, int k) {
+  const std::vector<Anchor>& a = st.annulus.anchors;
+  const std::vector<int>& order = st.order;
+  const int n = static_cast<int>(order.size());
+  int count = 1;
+  for (int i = 1; i < n && a[order[(k + i) % n]].child == a[order[k]].child; ++i) ++count;
+  for (int i = 1; i < n && a[order[(k - i + n) % n]].child == a[order[k]].child; ++i) ++count;
+  return std::min(count, n);
+}
+
+// Where strip `failing` does not zip (its gradient lines, drawn straight, cut across a bent
+// loop), one of its anchors slides up to three vertices along its loop (along the child only
+// between two anchors on the same child) until both strips beside it zip. Marks them to check.
+bool slide_anchor(StripZipping& z, AnnulusStrips& st, std::vector<char>& dirty, int failing) {
+  const Loop& parent = z.loops[st.annulus.parent];
+  std::vector<Anchor>& a = st.annulus.anchors;
+  const std::vector<int>& order = st.order;
+  const int n = static_cast<int>(order.size());
+  bool fixed = false;
+  for (int end = 1; end >= 0 && !fixed && n >= 3; --end) {
+    const int k = (failing + end) % n;  // the anchor to move
+    Anchor& x = a[order[k]];
+    const Anchor& w = a[order[(k + n - 1) % n]];
+    const Anchor& y = a[order[(k + 1) % n]];
+    const Anchor saved = x;
+    const int mp = static_cast<int>(parent.vertices.size());
+    const Loop& child = z.loops[x.child];
+    const int mc = static_cast<int>(child.vertices.size());
+    for (int step = 1; step <= 3 && !fixed; ++step) {
+      for (int side : {-1, 1}) {
+        for (int along_child = 0; along_child <= 1 && !fixed; ++along_child) {
+          x = saved;
+          if (along_child) {
+            // Only between two anchors on the same child.
+            if (w.child != x.child || y.child != x.child) continue;
+            const int c = (x.child_position + side * step + mc) % mc;
+            if (steps_forward(w.child_position, c, mc) >
+                    steps_forward(w.child_position, y.child_position, mc) ||
+                c == w.child_position || c == y.child_position) {
+              continue;
+            }
+            x.child_position = c;
+            x.child_vertex = child.vertices[c];
+          } else {
+            const int p = (x.parent_position + side * step + mp) % mp;
+            if (steps_forward(w.parent_position, p, mp) >
+                steps_forward(w.parent_position, y.parent_position, mp)) {
+              continue;
+            }
+            if ((p == w.parent_position && w.child == x.child &&
+                 w.child_position == x.child_position) ||
+                (p == y.parent_position && y.child == x.child &&
+                 y.child_position == x.child_position)) {
+              continue;
+            }
+            x.parent_position = p;
+            x.parent_vertex = parent.vertices[p];
+          }
+          fixed = zip_strip(z, st, (k + n - 1) % n, false, nullptr) &&
+                  zip_strip(z, st, k, false, nullptr);
+        }
+        if (fixed) break;
+      }
+    }
+    if (!fixed) {
+      x = saved;
+    } else {
+      dirty[(k + n - 1) % n] = dirty[k] = 1;
+    }
+  }
+  return fixed;
+}
+
+// Splits strip `failing` (both ends on one child) by a new gradient line, down from the upper
+// vertex farthest from the parent (the tip of a notch the strip cannot reach into otherwise), to
+// a vertex of the parent (an existing one if close, else a new one between, which shifts every
+// anchor's position past it, here and in the strips below this loop).
+bool split_strip(StripZipping& z, AnnulusStrips& st, std::vector<char>& dirty, int failing) {
+  Builder& b = z.b;
+  Annulus& annulus = st.annulus;
+  std::vector<Anchor>& a = annulus.anchors;
+  std::vector<int>& order = st.order;
+  const int n = static_cast<int>(order.size());
+  if (!(a[order[failing]].child == a[order[(failing + 1) % n]].child && n >= 2)) return false;
+  const Anchor x = a[order[failing]], y = a[order[(failing + 1) % n]];
+  Loop& child = z.loops[x.child];
+  Loop& upper_parent = z.loops[annulus.parent];
+  const std::vector<int> upper = arc(child, x.child_position, y.child_position, false);
+  const std::vector<int> lower = arc(upper_parent, x.parent_position, y.parent_position, false);
+  std::vector<std::pair<double, int>> candidates;  // (-distance, vertex)
+  for (size_t i = 1; i + 1 < upper.size(); ++i) {
+    double distance = std::numeric_limits<double>::infinity();
+    for (int l : lower) distance = std::min(distance, (b.V[upper[i]] - b.V[l]).norm());
+    candidates.push_back({-distance, upper[i]});
+  }
+  std::sort(candidates.begin(), candidates.end());
+  const double per = upper_parent.perimeter();
+  const double from = b.param[x.parent_vertex];
+  const double span =
+      x.parent_vertex == y.parent_vertex ? 0.0 : wrap(b.param[y.parent_vertex] - from, per);
+  bool split = false;
+  for (size_t c = 0; c < std::min<size_t>(candidates.size(), 4) && !split; ++c) {
+    const int u = candidates[c].second;
+    const Landing l = trace(z.tracer, child, b.param[u], upper_parent.level);
+    if (l.loop != annulus.parent) continue;
+    const double along = wrap(l.s - from, per);
+    if (!(along > 0.0 && along < span)) continue;
+    // The parent's vertex there: an existing one if close, else a new one between.
+    std::vector<int>& pv = upper_parent.vertices;
+    const int mp = static_cast<int>(pv.size());
+    int position = x.parent_position;
+    while (wrap(b.param[pv[(position + 1) % mp]] - from, per) <= along &&
+           (position + 1) % mp != y.parent_position) {
+      position = (position + 1) % mp;
+    }
+    const int next = (position + 1) % mp;
+    const double merge_eps = z.min_gap[annulus.parent];
+    int vertex = -1;
+    if (along - wrap(b.param[pv[position]] - from, per) < merge_eps) {
+      vertex = pv[position];
+    } else if (wrap(b.param[pv[next]] - from, per) - along < merge_eps) {
+      vertex = pv[next];
+      position = next;
+    } else {
+      const LoopPoint lp = point_at(upper_parent, l.s);
+      vertex =
+          b.add_vertex(Vector3d(lp.p.x(), lp.p.y(), z.heights[upper_parent.level]),
+                       upper_parent.level, annulus.parent, upper_parent.segment_face[lp.segment]);
+      b.param[vertex] = wrap(l.s, per);
+      position = position + 1;
+      pv.insert(pv.begin() + position, vertex);
+      // Shift every anchor's position past it, here and in the strips below this loop.
+      for (Annulus& other : z.annuli) {
+        for (Anchor& o : other.anchors) {
+          if (other.parent == annulus.parent && o.parent_position >= position) {
+            ++o.parent_position;
+          }
+          if (o.child == annulus.parent && o.child_position >= position) ++o.child_position;
+        }
+      }
+    }
+    if (vertex == x.parent_vertex || vertex == y.parent_vertex) continue;
+    Anchor na{l.s, x.child, b.param[u]};
+    na.pinned = true;
+    na.parent_vertex = vertex;
+    na.parent_position = position;
+    na.child_vertex = u;
+    na.child_position = static_cast<int>(
+        std::find(child.vertices.begin(), child.vertices.end(), u) - child.vertices.begin());
+    a.push_back(na);
+    order.insert(order.begin() + failing + 1, static_cast<int>(a.size()) - 1);
+    dirty.insert(dirty.begin() + failing + 1, 1);
+    dirty[failing] = 1;
+    split = true;
+  }
+  return split;
+}
+
+// Drops strip `failing`'s later anchor, else its earlier one, merging two strips; a run keeps two
+// anchors, the annulus three.
+bool drop_anchor(AnnulusStrips& st, std::vector<char>& dirty, int failing) {
+  std::vector<int>& order = st.order;
+  const int n = static_cast<int>(order.size());
+  for (int end = 1; end >= 0; --end) {
+    const int k = (failing + end) % n;
+    if (n > 3 && (st.annulus.cyclic || anchor_run_size(st, k) > 2)) {
+      order.erase(order.begin() + k);
+      dirty.erase(dirty.begin() + k);
+      dirty[(k + n - 2) % (n - 1)] = 1;  // the merged strip
+      return true;
+    }
+  }
+  return false;
+}
+
+// Makes every strip of the annulus zip (paper §6.1 "Triangulation"; notes §2 step 4): a strip
+// that does not has an anchor slid, or is split by a new gradient line, or merged with the next.
+void make_strips_zip(StripZipping& z, AnnulusStrips& st) {
+  const std::vector<Anchor>& a = st.annulus.anchors;
+  std::vector<char> dirty(st.order.size(), 1);  // strips to check
+  const int work_limit = 8 * static_cast<int>(a.size()) + 20;
+  for (int work = 0;; ++work) {
+    const int n = static_cast<int>(st.order.size());
+    const int failing = [&] {
+      for (int k = 0; k < n; ++k) {
+        if (!dirty[k]) continue;
+        dirty[k] = 0;
+        if (!zip_strip(z, st, k, false, nullptr)) return k;
+      }
+      return -1;
+    }();
+    if (failing < 0) break;
+    if (work > work_limit) {
+      throw std::logic_error(
+          fmt::format("isoline_mesh: the strip above the loop at {} cannot be zipped",
+                      at_xy(z.b.V[a[st.order[failing]].parent_vertex].head<2>())));
+    }
+    if (slide_anchor(z, st, dirty, failing)) continue;
+    if (split_strip(z, st, dirty, failing)) continue;
+    if (!drop_anchor(st, dirty, failing)) {
+      throw std::logic_error(
+          fmt::format("isoline_mesh: the strip above the loop at {} cannot be zipped",
+                      at_xy(z.b.V[a[st.order[failing]].parent_vertex].head<2>())));
+    }
+  }
+}
+
+// Emits the strips, making the saddle chains (printing edges); returns per strip k the saddle
+// chain after anchor k, if any.
+std::vector<std::vector<int>> emit_strips(StripZipping& z, AnnulusStrips& st) {
+  const int n = static_cast<int>(st.order.size());
+  std::vector<std::vector<int>> chain_after(n);
+  for (int k = 0; k < n; ++k) {
+    zip_strip(z, st, k, true, &chain_after[k]);
+    for (const auto& f : st.faces) z.b.add_face(f[0], f[1], f[2]);
+    const std::vector<int>& chain = chain_after[k];
+    for (size_t i = 0; i + 1 < chain.size(); ++i) z.b.add_printing(chain[i], chain[i + 1]);
+  }
+  return chain_after;
+}
+
+// The saddle polygon from chain k0 (notes §2 step 6): from each chain's end, back along its child
+// (clockwise: the side the strips leave free) to the end of a run, then that run's chain, until
+// closed. Marks the chains it takes as used.
+std::vector<int> saddle_polygon(const StripZipping& z, const AnnulusStrips& st,
+                                const std::vector<std::vector<int>>& chain_after,
+                                std::vector<bool>& used, int k0) {
+  const std::vector<Anchor>& a = st.annulus.anchors;
+  const std::vector<int>& order = st.order;
+  const int n = static_cast<int>(order.size());
+  std::vector<int> polygon;
+  for (int k = k0; !used[k];) {
+    used[k] = true;
+    const std::vector<int>& chain = chain_after[k];
+    polygon.insert(polygon.end(), chain.begin(), chain.end() - 1);
+    const Anchor& start_anchor = a[order[(k + 1) % n]];
+    const Loop& child = z.loops[start_anchor.child];
+    const int m = static_cast<int>(child.vertices.size());
+    const int start = start_anchor.child_position;
+    // The run end on this child that comes first going clockwise from `start` (all the way
+    // round if that is the end of the run starting here, on one vertex).
+    int own_end = (k + 1) % n;
+    while (chain_after[own_end].empty()) own_end = (own_end + 1) % n;
+    int best = -1, best_distance = m + 1;
+    for (int q = 0; q < n; ++q) {
+      if (chain_after[q].empty() || a[order[q]].child != start_anchor.child) continue;
+      int distance = steps_forward(a[order[q]].child_position, start, m);
+      if (distance == 0 && q == own_end) distance = m;
+      if (distance < best_distance) best_distance = distance, best = q;
+    }
+    if (best < 0) throw std::logic_error("isoline_mesh: a saddle polygon does not close");
+    for (int i = 0; i < best_distance; ++i) {
+      polygon.push_back(child.vertices[(start - i + m) % m]);
+    }
+    k = best;
+  }
+  return polygon;
+}
+
+// Fans the saddle polygon from its centre: the saddle inside it (its true position) that sees all
+// of it, else a point that does (its kernel's centroid) on the surface, else the centroid.
+void fan_saddle_polygon(StripZipping& z, const std::vector<int>& polygon, int parent_level) {
+  Builder& b = z.b;
+  std::vector<Vector2d> outline;
+  for (int v : polygon) outline.push_back(b.V[v].head<2>());
+  std::vector<Vector3d> candidates;
+  for (auto it = z.cp.saddles.rbegin(); it != z.cp.saddles.rend(); ++it) {
+    if (it->z > z.heights[parent_level] && it->z < z.heights[parent_level + 1] &&
+        inside(outline, z.s.xy[it->vertex])) {
+      candidates.push_back(Vector3d(z.s.xy[it->vertex].x(), z.s.xy[it->vertex].y(), it->z));
+    }
+  }
+  const auto sees = std::find_if(candidates.begin(), candidates.end(),
+                                 [&](const Vector3d& c) { return fans(outline, c.head<2>()); });
+  Vector3d centre;
+  if (sees != candidates.end()) {
+    centre = *sees;
+  } else if (!candidates.empty()) {
+    centre = fan_point(b, polygon, outline, candidates.front());
+  } else {
+    int face = -1;
+    const Vector2d mean = std::accumulate(outline.begin(), outline.end(), Vector2d(0, 0)) /
+                          static_cast<double>(outline.size());
+    centre = fan_point(b, polygon, outline, on_surface(b, polygon.front(), mean, face));
+  }
+  const int c = b.add_vertex(centre, -1, -1, -1);
+  for (size_t k = 0; k < polygon.size(); ++k) {
+    b.add_face(c, polygon[k], polygon[(k + 1) % polygon.size()]);
+  }
+}
+
+// Step 5 on one annulus: its strips zipped, its saddle chains and its saddle polygons fanned.
+void mesh_annulus(StripZipping& z, Annulus& annulus) {
+  AnnulusStrips st{annulus, std::vector<int>(annulus.anchors.size()), {}};
+  std::iota(st.order.begin(), st.order.end(), 0);
+  make_strips_zip(z, st);
+  const std::vector<std::vector<int>> chain_after = emit_strips(z, st);
+  if (annulus.cyclic) return;
+  const int n = static_cast<int>(st.order.size());
+  std::vector<bool> used(n, false);
+  for (int k0 = 0; k0 < n; ++k0) {
+    if (chain_after[k0].empty() || used[k0]) continue;
+    const std::vector<int> polygon = saddle_polygon(z, st, chain_after, used, k0);
+    fan_saddle_polygon(z, polygon, z.loops[annulus.parent].level);
+  }
+}
+
+// Caps (notes §2 step 5), fanned from the summit's true highest point rather than the loop's
+// centroid, which would cut the summit flat.
+void cap_summits(Builder& b, const std::vector<Loop>& loops, const Surface& s) {
+  for (const Loop& loop : loops) {
     if (!loop.children.empty()) continue;
     const Vector2d top = s.xy[loop.summit];
     Vector3d centre(top.x(), top.y(), s.z[loop.summit]);
     std::vector<Vector2d> outline;
     for (int v : loop.vertices) outline.push_back(b.V[v].head<2>());
     // A top loop the summit does not see all of (a bent crest): the fan moves off the summit.
-    if (!fans(outline, top)) centre = fan_point(loop.vertices, outline, centre);
+    if (!fans(outline, top)) centre = fan_point(b, loop.vertices, outline, centre);
     const int c = b.add_vertex(centre, -1, -1, -1);
     const int n = static_cast<int>(loop.vertices.size());
     for (int i = 0; i < n; ++i) b.add_face(c, loop.vertices[i], loop.vertices[(i + 1) % n]);
   }
+}
 
-  // 6. The mesh.
+// Step 6, the mesh: the loops' edges are printing edges (the boundary's boundary edges), every
+// other edge a bridge; every face must turn counter-clockwise seen from above.
+IsolineMesh assemble_isoline_mesh(Builder& b, const std::vector<Loop>& loops,
+                                  const std::vector<double>& heights, const std::string& source) {
   for (const Loop& loop : loops) {
     const int n = static_cast<int>(loop.vertices.size());
     for (int i = 0; i < n; ++i) b.add_printing(loop.vertices[i], loop.vertices[(i + 1) % n]);
@@ -1971,7 +2178,7 @@ IsolineMesh isoline_mesh(const HeightField& field, const IsolineMeshOptions& opt
                                                                             : EdgeKind::kPrinting;
     }
   }
-  mesh.levels = Eigen::Map<const Eigen::VectorXd>(heights.data(), num_levels);
+  mesh.levels = Eigen::Map<const Eigen::VectorXd>(heights.data(), static_cast<int>(heights.size()));
   mesh.loops.resize(loops.size());
   for (size_t id = 0; id < loops.size(); ++id) {
     mesh.loops[id].level = loops[id].level;
@@ -1979,6 +2186,47 @@ IsolineMesh isoline_mesh(const HeightField& field, const IsolineMeshOptions& opt
     mesh.loops[id].vertices = loops[id].vertices;
   }
   return mesh;
+}
+
+}  // namespace
+
+IsolineMesh isoline_mesh(const HeightField& field, const IsolineMeshOptions& options,
+                         const std::string& source) {
+  check_isoline_mesh_options(options, source);
+  // Work on counter-clockwise faces (seen from +z), whichever way the field's faces turn.
+  const std::optional<HeightField> turned = counter_clockwise_field(field);
+  const Surface s = make_surface(turned ? *turned : field);
+  const IsolineScales scales = isoline_scales(s, options, source);
+
+  // 1. Levels; 2. loops and the loop tree.
+  const IsolineLevels levels = isoline_levels(s, scales, options);
+  IsolineLoops isolines = march_isoline_loops(s, levels.heights, scales.l_u, source);
+  build_loop_tree(isolines, s, levels, source);
+  std::vector<Loop>& loops = isolines.loops;
+
+  // 3. Gradient lines between each loop and its children: anchors.
+  const GradientTracer tracer = make_gradient_tracer(s, field, isolines, levels, scales);
+  std::vector<Annulus> annuli = anchor_annuli(loops, tracer, scales);
+
+  // 4. The loops' vertices. No two consecutive vertices of a loop closer than l_u / 4 (a
+  // sixteenth of a small loop): a shorter printing edge is the base of a needle triangle, which
+  // the sheet's simulation cannot settle. Anchors that close join one vertex (their gradient
+  // lines move by at most that much).
+  std::vector<double> min_gap(loops.size());
+  for (size_t id = 0; id < loops.size(); ++id) {
+    min_gap[id] = std::min(kMinEdgeFraction * scales.l_u, loops[id].perimeter() / kMinLoopPieces);
+  }
+  Builder b;
+  b.surface = &s;
+  place_loop_vertices(b, loops, annuli, s, levels.heights, min_gap, scales);
+
+  // 5. Strips, saddle chains and polygons, caps.
+  StripZipping zipping{b, s, loops, annuli, levels.heights, levels.cp, tracer, min_gap, scales.l_u};
+  for (Annulus& annulus : annuli) mesh_annulus(zipping, annulus);
+  cap_summits(b, loops, s);
+
+  // 6. The mesh.
+  return assemble_isoline_mesh(b, loops, levels.heights, source);
 }
 
 }  // namespace flatmorph

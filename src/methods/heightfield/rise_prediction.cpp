@@ -67,8 +67,8 @@ Eigen::VectorXd deposition_directions(const IsolineMesh& mesh, const Eigen::Matr
 
 HeightFieldPlate heightfield_plate(const Eigen::MatrixXd& plate, const Eigen::MatrixXi& F,
                                    const Eigen::VectorXd& direction,
-                                   const Eigen::VectorXd& face_shrinkage,
-                                   const Material& material) {
+                                   const Eigen::VectorXd& face_shrinkage, const Material& material,
+                                   std::optional<int> num_layers) {
   if (direction.size() != F.rows() || face_shrinkage.size() != F.rows() || plate.cols() != 2) {
     throw std::invalid_argument(
         fmt::format("height-field plate: {} directions and {} shrinkages for {} faces (plate of {} "
@@ -76,15 +76,13 @@ HeightFieldPlate heightfield_plate(const Eigen::MatrixXd& plate, const Eigen::Ma
                     direction.size(), face_shrinkage.size(), F.rows(), plate.cols()));
   }
   ThicknessControlledStack printed =
-      thickness_controlled_layer_stack(direction, face_shrinkage, material);
+      thickness_controlled_layer_stack(direction, face_shrinkage, material, num_layers);
   HeightFieldPlate out;
   out.direction = direction;
   out.wanted_shrinkage = face_shrinkage;
   out.clamped = printed.clamped;
+  out.shrinkage = printed.shrinkage;
   const Layer& first = printed.stack.layers.front();
-  // The σ printed: the curve's at the face's layer height, i.e. the asked σ clamped to its range.
-  const auto [least, most] = reachable_shrinkage(*material.thickness_curve);
-  out.shrinkage = face_shrinkage.cwiseMax(least).cwiseMin(most);
   out.design.plate = plate;
   out.design.F = F;
   out.design.method = "heightfield";
@@ -98,10 +96,10 @@ HeightFieldPlate heightfield_plate(const Eigen::MatrixXd& plate, const Eigen::Ma
 }
 
 HeightFieldPlate heightfield_plate(const IsolineMesh& mesh, const Eigen::MatrixXd& plate,
-                                   const Eigen::VectorXd& edge_shrinkage,
-                                   const Material& material) {
+                                   const Eigen::VectorXd& edge_shrinkage, const Material& material,
+                                   std::optional<int> num_layers) {
   return heightfield_plate(plate.leftCols(2), mesh.F, deposition_directions(mesh, plate),
-                           face_shrinkage(mesh, plate, edge_shrinkage), material);
+                           face_shrinkage(mesh, plate, edge_shrinkage), material, num_layers);
 }
 
 Eigen::MatrixXd biased_flat_start(const Eigen::MatrixXd& plate, double bias) {

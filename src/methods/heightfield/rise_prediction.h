@@ -7,6 +7,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <optional>
 
 #include "material/material.h"
 #include "methods/heightfield/isoline_mesh.h"
@@ -39,18 +40,21 @@ struct HeightFieldPlate {
 Eigen::VectorXd deposition_directions(const IsolineMesh& mesh, const Eigen::MatrixXd& plate);
 
 // The sheet printed with per-face `direction` (rad) and shrink `face_shrinkage` (fractions; σ the
-// curve cannot reach is clamped and flagged) by thickness_controlled_layer_stack (the layers of the
-// curve's calibration). Throws UserError (kOption) when `material` has no thickness curve;
-// std::invalid_argument on sizes that differ or a non-finite σ.
+// curve cannot reach is clamped and flagged) by thickness_controlled_layer_stack, in `num_layers`
+// identical layers (unset: the layers of the curve's calibration; the paths must print as many,
+// ContinuousPathOptions::num_layers). Throws UserError (kOption) when `material` has no thickness
+// curve or num_layers < 1; std::invalid_argument on sizes that differ or a non-finite σ.
 HeightFieldPlate heightfield_plate(const Eigen::MatrixXd& plate, const Eigen::MatrixXi& F,
                                    const Eigen::VectorXd& direction,
-                                   const Eigen::VectorXd& face_shrinkage, const Material& material);
+                                   const Eigen::VectorXd& face_shrinkage, const Material& material,
+                                   std::optional<int> num_layers = std::nullopt);
 
 // The same from the flattening: `plate` (#V x 2, mm) and the per-edge shrink of mesh.E
 // (`edge_shrinkage`, NaN on bridges), spread over the faces by face_shrinkage (shrinkage_field.h),
 // directions from deposition_directions.
 HeightFieldPlate heightfield_plate(const IsolineMesh& mesh, const Eigen::MatrixXd& plate,
-                                   const Eigen::VectorXd& edge_shrinkage, const Material& material);
+                                   const Eigen::VectorXd& edge_shrinkage, const Material& material,
+                                   std::optional<int> num_layers = std::nullopt);
 
 // The flat sheet with a small dome toward +z, z = bias · (1 − r²/R²) · D, r the distance to the
 // plate's mean vertex, R the largest such distance, D the plate's bounding-box diagonal (mm). The

@@ -180,7 +180,15 @@ Design design_from_every_stretch(const Mesh& target, const std::string& source,
 
 }  // namespace
 
-Design design_shrink_morph(Mesh target, const std::string& source, const DesignOptions& options) {
+namespace {
+
+// A progress line of a stage that counts nothing.
+void report_stage(const DesignOptions& options, const std::string& stage,
+                  const std::string& detail) {
+  report_progress(options.progress, {stage, 0, 0, NAN, detail});
+}
+
+void check_design_options(const DesignOptions& options) {
   if (!(options.width_mm > 0) || !(options.w_D >= 0) || options.faces < 1 || options.layers < 2 ||
       options.stretch_candidate < kEveryStretch ||
       options.stretch_candidate >= kStretchCandidates) {
@@ -190,99 +198,136 @@ Design design_shrink_morph(Mesh target, const std::string& source, const DesignO
                                 "automatic, every one or 0 to {}",
                                 kStretchCandidates - 1));
   }
-  if (options.stretch_candidate == kEveryStretch) {
-    return design_from_every_stretch(target, source, options);
-  }
-  auto progress = [&](const std::string& stage, const std::string& detail) {
-    report_progress(options.progress, {stage, 0, 0, NAN, detail});
-  };
-  Design out;
-  DesignMetrics& m = out.metrics;
+}
 
-  // The design level is the repaired input Loop-subdivided to at least `faces` faces. When that
-  // takes at least one step, the level one step coarser (4 times fewer faces) is where both sides
-  // are designed if the curvature does not tell the printed side (the first pass below).
-  auto t0 = Clock::now();
+// The mesh levels of a design. The design level is the repaired input Loop-subdivided to at least
+// `faces` faces. When that takes at least one step, the level one step coarser (4 times fewer
+// faces) is where both sides are designed if the curvature does not tell the printed side (the
+// first pass).
+struct DesignLevels {
+  Subdivision coarse;  // moved into `fine` when there is no coarser level
+  Subdivision fine;    // the design level; fine.S carries the first pass's theta2 up to it
+  bool has_coarse = false;
+
+  const Mesh& first_level() const { return has_coarse ? coarse.mesh : fine.mesh; }
+};
+
+DesignLevels prepare_design_levels(Mesh target, const std::string& source,
+                                   const DesignOptions& options, DesignMetrics& m) {
+  const auto t0 = Clock::now();
   const Mesh base = prepare_target(std::move(target), source, 1).mesh;
-  Subdivision coarse = loop_subdivide_to(base, (options.faces + 3) / 4);
-  const bool has_coarse = coarse.mesh.num_faces() < options.faces;
-  const Subdivision fine = has_coarse ? loop_subdivide(coarse.mesh) : std::move(coarse);
-  const Mesh& first_level = has_coarse ? coarse.mesh : fine.mesh;
+  DesignLevels levels;
+  levels.coarse = loop_subdivide_to(base, (options.faces + 3) / 4);
+  levels.has_coarse = levels.coarse.mesh.num_faces() < options.faces;
+  levels.fine = levels.has_coarse ? loop_subdivide(levels.coarse.mesh) : std::move(levels.coarse);
   m.t_prepare_s = seconds_since(t0);
-  m.faces = fine.mesh.num_faces();
-  m.vertices = fine.mesh.num_vertices();
-  m.coarse_faces = has_coarse ? first_level.num_faces() : 0;
-  progress("prepare",
-           fmt::format("{} faces, {} vertices{}", m.faces, m.vertices,
-                       has_coarse ? fmt::format("; a first pass on {} faces", m.coarse_faces)
-                                  : std::string()));
+  m.faces = levels.fine.mesh.num_faces();
+  m.vertices = levels.fine.mesh.num_vertices();
+  m.coarse_faces = levels.has_coarse ? levels.first_level().num_faces() : 0;
+  report_stage(
+      options, "prepare",
+      fmt::format("{} faces, {} vertices{}", m.faces, m.vertices,
+                  levels.has_coarse ? fmt::format("; a first pass on {} faces", m.coarse_faces)
+                                    : std::string()));
+  return levels;
+}
 
-  FlattenOptions flatten_options =
+// What the target's curvature tells on the first level before any theta2: the plate bends toward
+// its top with theta2 = 0 (Eq. 7), so the initial stretch whose bending agrees with the target's
+// is flattened, and when the agreement is clear that side goes on top.
+struct CurvatureChoice {
+  FlattenOptions flatten_options;  // with the initial stretch chosen
+  bool flip = false;               // the normal side goes down
+  bool side_known = false;
+  bool stretch_clear = false;      // the stretch's agreement was clear on the first level
+  std::optional<FlatPlate> probe;  // the first level flattened, normal side up
+};
+
+CurvatureChoice choose_side_by_curvature(const DesignLevels& levels, const DesignOptions& options,
+                                         DesignMetrics& m) {
+  CurvatureChoice choice;
+  choice.flatten_options =
       flatmorph::flatten_options(options.material, options.width_mm, options.w_D);
-  flatten_options.progress = options.progress;
-
-  // The plate bends toward its top with theta2 = 0 (Eq. 7); when the target's curvature clearly
-  // agrees with one side, that side goes on top.
-  bool flip = options.side == PrintedSide::kNormalDown;
-  bool side_known = options.side != PrintedSide::kAutomatic;
-  t0 = Clock::now();
-  const bool stretch_given = options.stretch_candidate >= 0;
-  flatten_options.stretch_candidate = options.stretch_candidate;
-  StretchChoice stretch = choose_initial_stretch(first_level, flatten_options, options.material,
-                                                 options.layers, options.side);
+  choice.flatten_options.progress = options.progress;
+  choice.flip = options.side == PrintedSide::kNormalDown;
+  choice.side_known = options.side != PrintedSide::kAutomatic;
+  const auto t0 = Clock::now();
+  choice.flatten_options.stretch_candidate = options.stretch_candidate;
+  StretchChoice stretch = choose_initial_stretch(levels.first_level(), choice.flatten_options,
+                                                 options.material, options.layers, options.side);
   m.t_param_s += seconds_since(t0);
   if (stretch.searched) {
-    progress("flatten",
-             stretch.clear
-                 ? fmt::format("initial stretch {}: curvature agreement {:.2f} (the lowest-energy "
-                               "stretch's is {:.2f})",
-                               stretch.plate.stretch_candidate, stretch.agreement,
-                               stretch.lowest_energy_agreement)
-                 : fmt::format("no initial stretch agrees clearly with the target's curvature "
-                               "(the lowest-energy one: {:.2f})",
-                               stretch.agreement));
+    report_stage(options, "flatten",
+                 stretch.clear ? fmt::format("initial stretch {}: curvature agreement {:.2f} (the "
+                                             "lowest-energy stretch's is {:.2f})",
+                                             stretch.plate.stretch_candidate, stretch.agreement,
+                                             stretch.lowest_energy_agreement)
+                               : fmt::format("no initial stretch agrees clearly with the target's "
+                                             "curvature (the lowest-energy one: {:.2f})",
+                                             stretch.agreement));
   }
   if (stretch.clear) {
-    flatten_options.stretch_candidate = stretch.plate.stretch_candidate;
-    if (!side_known) {
-      flip = stretch.agreement < 0;  // flipping mirrors the plate and negates the agreement
-      side_known = true;
+    choice.flatten_options.stretch_candidate = stretch.plate.stretch_candidate;
+    if (!choice.side_known) {
+      choice.flip = stretch.agreement < 0;  // flipping mirrors the plate and negates the agreement
+      choice.side_known = true;
     }
   }
-  std::optional<FlatPlate> probe = std::move(stretch.plate);  // the first level, normal side up
+  choice.stretch_clear = stretch.clear;
+  choice.probe = std::move(stretch.plate);
+  return choice;
+}
 
-  const auto t_optim = Clock::now();
-  double t_not_optim = 0;  // flattening
-  auto count_flattening = [&](Clock::time_point since) {
-    const double seconds = seconds_since(since);
-    m.t_param_s += seconds;
-    t_not_optim += seconds;
-  };
-  auto flatten_level = [&](const Mesh& mesh, bool normal_side_down) {
-    const auto t = Clock::now();
-    FlatPlate flat;
-    if (&mesh == &first_level && !normal_side_down && probe) {
-      flat = std::move(*probe);
-      probe.reset();
-    } else {
-      FlattenOptions flipped = flatten_options;
-      flipped.flip = normal_side_down;
-      flat = flatten(mesh, flipped);
-    }
-    count_flattening(t);
-    return side_design(std::move(flat), options);
-  };
+// Flattening a level for one side, timed apart from the optimization it interleaves with: its
+// seconds count as flattening (t_param_s) and are taken out of t_optim_s.
+struct SideFlattening {
+  FlattenOptions options;
+  const Mesh* first_level = nullptr;
+  std::optional<FlatPlate> probe;  // the first level, normal side up: used once, not redone
+  double seconds = 0;
+};
 
-  OptimizeTheta2Options first_pass = options.optimize;
-  first_pass.progress = nullptr;
-  first_pass.max_trial_forward_iterations = options.first_pass_trial_forward_iterations;
-  first_pass.min_step_rad = options.first_pass_min_step_rad;
-  OptimizeTheta2Options design_pass = options.optimize;
-  if (!design_pass.progress && options.progress) {
-    design_pass.progress = [&](const Theta2Iteration& it) {
+void count_flattening(SideFlattening& flattening, Clock::time_point since, DesignMetrics& m) {
+  const double seconds = seconds_since(since);
+  m.t_param_s += seconds;
+  flattening.seconds += seconds;
+}
+
+SideDesign flatten_side(SideFlattening& flattening, const Mesh& mesh, bool normal_side_down,
+                        const DesignOptions& options, DesignMetrics& m) {
+  const auto t = Clock::now();
+  FlatPlate flat;
+  if (&mesh == flattening.first_level && !normal_side_down && flattening.probe) {
+    flat = std::move(*flattening.probe);
+    flattening.probe.reset();
+  } else {
+    FlattenOptions flipped = flattening.options;
+    flipped.flip = normal_side_down;
+    flat = flatten(mesh, flipped);
+  }
+  count_flattening(flattening, t, m);
+  return side_design(std::move(flat), options);
+}
+
+// The theta2 optimization's settings on each level: the first pass only tells the sides apart
+// (coarser steps, no progress of its own); the design pass reports every iteration.
+struct Theta2Passes {
+  OptimizeTheta2Options first_pass;
+  OptimizeTheta2Options design_pass;
+};
+
+Theta2Passes theta2_passes(const DesignOptions& options) {
+  Theta2Passes passes;
+  passes.first_pass = options.optimize;
+  passes.first_pass.progress = nullptr;
+  passes.first_pass.max_trial_forward_iterations = options.first_pass_trial_forward_iterations;
+  passes.first_pass.min_step_rad = options.first_pass_min_step_rad;
+  passes.design_pass = options.optimize;
+  if (!passes.design_pass.progress && options.progress) {
+    passes.design_pass.progress = [progress = options.progress](const Theta2Iteration& it) {
       // The last record is the one whose prediction stopped the optimization: it takes no step.
       report_progress(
-          options.progress,
+          progress,
           {"optimize theta2", it.iteration + 1, 0, it.objective,
            it.line_search_trials == 0
                ? fmt::format("predicted decrease {:.3g}: converged", it.decrement)
@@ -292,124 +337,133 @@ Design design_shrink_morph(Mesh target, const std::string& source, const DesignO
                              it.cg_iterations)});
     };
   }
+  return passes;
+}
 
-  // When the curvature does not tell the side (the stretch, not the bilayer term, dominates the
-  // bending), both sides are designed on the first level and the one with the lower E is kept.
-  // Which side lands closer with theta2 = 0 does not tell: the paper's beetle with its normal side
-  // up starts 3.3 % from the target and ends 0.21 % / 1.73 % from it (avg / max); with the side
-  // down it starts at 6.7 % and ends at 0.17 % / 1.23 %.
-  std::optional<SideDesign> first;
-  if (!side_known) {
-    progress("choose side",
-             fmt::format("designing both sides on {} faces", first_level.num_faces()));
-    // Without a coarser level the first pass is the design itself, and reports as one.
-    const OptimizeTheta2Options& first_options = has_coarse ? first_pass : design_pass;
-    SideDesign up = flatten_level(first_level, false);
-    SideDesign down = flatten_level(first_level, true);
-    const auto optimize_up = [&] {
-      up.optimization = optimize_theta2(up.problem, {}, first_options);
-    };
-    const auto optimize_down = [&] {
-      down.optimization = optimize_theta2(down.problem, {}, first_options);
-    };
-    if (has_coarse) {
-      // The two sides share nothing (analyze_pattern keeps METIS, which does, one at a time), so
-      // each gives the same bits whatever runs beside it: one per core. Without a coarser level
-      // they are the design and report progress, so they take turns.
-      tbb::parallel_invoke(optimize_up, optimize_down);
-    } else {
-      optimize_up();
-      optimize_down();
-    }
-    progress("choose side", fmt::format("E = {:.4g} with the normal side up, {:.4g} with it down",
-                                        up.optimization.objective, down.optimization.objective));
-    flip = down.optimization.objective < up.optimization.objective;
-    first = std::move(flip ? down : up);
-    m.first_pass_iterations = first->optimization.iterations;
+// When the curvature does not tell the side (the stretch, not the bilayer term, dominates the
+// bending), both sides are designed on the first level and the one with the lower E is kept.
+// Which side lands closer with theta2 = 0 does not tell: the paper's beetle with its normal side
+// up starts 3.3 % from the target and ends 0.21 % / 1.73 % from it (avg / max); with the side
+// down it starts at 6.7 % and ends at 0.17 % / 1.23 %. Returns the kept side; `flip` says which.
+SideDesign design_both_sides(SideFlattening& flattening, const DesignLevels& levels,
+                             const Theta2Passes& passes, const DesignOptions& options, bool& flip,
+                             DesignMetrics& m) {
+  const Mesh& first_level = levels.first_level();
+  report_stage(options, "choose side",
+               fmt::format("designing both sides on {} faces", first_level.num_faces()));
+  // Without a coarser level the first pass is the design itself, and reports as one.
+  const OptimizeTheta2Options& first_options =
+      levels.has_coarse ? passes.first_pass : passes.design_pass;
+  SideDesign up = flatten_side(flattening, first_level, false, options, m);
+  SideDesign down = flatten_side(flattening, first_level, true, options, m);
+  const auto optimize_up = [&] {
+    up.optimization = optimize_theta2(up.problem, {}, first_options);
+  };
+  const auto optimize_down = [&] {
+    down.optimization = optimize_theta2(down.problem, {}, first_options);
+  };
+  if (levels.has_coarse) {
+    // The two sides share nothing (analyze_pattern keeps METIS, which does, one at a time), so
+    // each gives the same bits whatever runs beside it: one per core. Without a coarser level
+    // they are the design and report progress, so they take turns.
+    tbb::parallel_invoke(optimize_up, optimize_down);
+  } else {
+    optimize_up();
+    optimize_down();
   }
+  report_stage(options, "choose side",
+               fmt::format("E = {:.4g} with the normal side up, {:.4g} with it down",
+                           up.optimization.objective, down.optimization.objective));
+  flip = down.optimization.objective < up.optimization.objective;
+  return std::move(flip ? down : up);
+}
 
-  SideDesign chosen;
-  double t_report_sim = 0;  // a theta2 = 0 simulation the optimization does not use
-  if (first && !has_coarse) {
-    chosen = std::move(*first);  // the first pass ran on the design level: it is the design
-  } else {
-    chosen = flatten_level(fine.mesh, flip);
-    if (stretch.clear && has_coarse && !stretch_given) {
-      // The index names a direction relative to each level's own ARAP plate; on a symmetric
-      // target (the built-in saddle) it can reach another minimum on the finer level, one whose
-      // agreement is not clear. The design level then chooses for itself.
-      const PrintedSide side = flip ? PrintedSide::kNormalDown : PrintedSide::kNormalUp;
-      const double agreement =
-          printed_side_agreement(chosen.flat, options.material, options.layers);
-      if (!clear_for(side, flip ? -agreement : agreement)) {
-        const auto t = Clock::now();
-        FlattenOptions own = flatten_options;
-        own.stretch_candidate = -1;
-        StretchChoice again =
-            choose_initial_stretch(fine.mesh, own, options.material, options.layers, side);
-        flatten_options.stretch_candidate = again.clear ? again.plate.stretch_candidate : -1;
-        count_flattening(t);
-        progress("flatten", fmt::format("initial stretch {} on the design level",
-                                        flatten_options.stretch_candidate));
-        // Its plate is the normal side up one with that stretch; the other side is its mirror
-        // image, flattened anew.
-        chosen =
-            flip ? flatten_level(fine.mesh, flip) : side_design(std::move(again.plate), options);
-      }
+// The index of the first level's stretch names a direction relative to each level's own ARAP
+// plate; on a symmetric target (the built-in saddle) it can reach another minimum on the finer
+// level, one whose agreement is not clear. The design level then chooses for itself.
+void rechoose_stretch_on_design_level(SideDesign& chosen, SideFlattening& flattening,
+                                      const DesignLevels& levels, bool flip,
+                                      const DesignOptions& options, DesignMetrics& m) {
+  const PrintedSide side = flip ? PrintedSide::kNormalDown : PrintedSide::kNormalUp;
+  const double agreement = printed_side_agreement(chosen.flat, options.material, options.layers);
+  if (clear_for(side, flip ? -agreement : agreement)) return;
+  const auto t = Clock::now();
+  FlattenOptions own = flattening.options;
+  own.stretch_candidate = -1;
+  StretchChoice again =
+      choose_initial_stretch(levels.fine.mesh, own, options.material, options.layers, side);
+  flattening.options.stretch_candidate = again.clear ? again.plate.stretch_candidate : -1;
+  count_flattening(flattening, t, m);
+  report_stage(
+      options, "flatten",
+      fmt::format("initial stretch {} on the design level", flattening.options.stretch_candidate));
+  // Its plate is the normal side up one with that stretch; the other side is its mirror image,
+  // flattened anew.
+  chosen = flip ? flatten_side(flattening, levels.fine.mesh, flip, options, m)
+                : side_design(std::move(again.plate), options);
+}
+
+// Optimizes theta2 on the design level, from the first pass's theta2 and equilibrium carried up
+// by the subdivision when they land closer than zeros would (the plate is multistable, and the
+// finer plate may settle on another branch), else from zeros. Returns the seconds of the theta2 =
+// 0 simulation run only for the report (Dist. to sim., into out.simulated), 0 when none ran.
+double optimize_design_level(SideDesign& chosen, const std::optional<SideDesign>& first,
+                             const DesignLevels& levels, const Theta2Passes& passes,
+                             const DesignOptions& options, Design& out) {
+  if (first) {
+    // E is normalized by the area and the diagonal, so the first pass's E with theta2 = 0 stands
+    // for the design level's (the paper's hat: 229 there, 252 here, and 32 from the carried
+    // theta2); the carried one costs a single forward solve.
+    const Eigen::VectorXd carried = levels.fine.S * first->optimization.theta2;
+    const Theta2Evaluation from_first =
+        evaluate_theta2_objective(chosen.problem, carried, levels.fine.S * first->optimization.V,
+                                  passes.first_pass, /*with_gradient=*/false);
+    const double zeros_objective = first->optimization.initial_objective;
+    const bool carried_start =
+        from_first.forward_converged && from_first.objective < zeros_objective;
+    report_stage(options, "optimize theta2",
+                 fmt::format("{} faces, from {} (E = {:.4g} from the first pass's theta2, {:.4g} "
+                             "from zeros on the first pass)",
+                             out.metrics.faces, carried_start ? "the first pass's theta2" : "zeros",
+                             from_first.objective, zeros_objective));
+    if (carried_start) {
+      chosen.problem.start = from_first.V;
+      chosen.optimization = optimize_theta2(chosen.problem, carried, passes.design_pass);
+      // "Dist. to sim." from the target, as in the paper: starting from the first pass's theta2 =
+      // 0 equilibrium carried up (5 times faster on the paper's hat) lands the face on another
+      // equilibrium (3.99 % / 10.1 % from the target instead of 2.64 % / 7.06 %). Run beside the
+      // optimization it slowed it more than it saved (the hat: t_optim 25.6 s -> 28-34 s, the
+      // whole call 33.9 s -> 28-34 s on 2 cores), so it runs after.
+      report_stage(options, "simulate", "theta2 = 0, from the target (Dist. to sim.)");
+      const auto t = Clock::now();
+      out.simulated =
+          simulate(theta2_plate_problem(chosen.problem, Eigen::VectorXd::Zero(carried.size())),
+                   chosen.problem.target, options.optimize.forward)
+              .V;
+      return seconds_since(t);
     }
-    bool carried_start = false;
-    if (first) {
-      // The first pass's theta2 and equilibrium, carried up by the subdivision, start the design
-      // level unless they land farther than zeros would: the plate is multistable, and the finer
-      // plate may settle on another branch. E is normalized by the area and the diagonal, so the
-      // first pass's E with theta2 = 0 stands for the design level's (the paper's hat: 229 there,
-      // 252 here, and 32 from the carried theta2); the carried one costs a single forward solve.
-      const Eigen::VectorXd carried = fine.S * first->optimization.theta2;
-      const Theta2Evaluation from_first =
-          evaluate_theta2_objective(chosen.problem, carried, fine.S * first->optimization.V,
-                                    first_pass, /*with_gradient=*/false);
-      const double zeros_objective = first->optimization.initial_objective;
-      carried_start = from_first.forward_converged && from_first.objective < zeros_objective;
-      progress("optimize theta2",
-               fmt::format("{} faces, from {} (E = {:.4g} from the first pass's theta2, {:.4g} "
-                           "from zeros on the first pass)",
-                           m.faces, carried_start ? "the first pass's theta2" : "zeros",
-                           from_first.objective, zeros_objective));
-      if (carried_start) {
-        chosen.problem.start = from_first.V;
-        chosen.optimization = optimize_theta2(chosen.problem, carried, design_pass);
-        // "Dist. to sim." from the target, as in the paper: starting from the first pass's
-        // theta2 = 0 equilibrium carried up (5 times faster on the paper's hat) lands the face on
-        // another equilibrium (3.99 % / 10.1 % from the target instead of 2.64 % / 7.06 %). Run
-        // beside the optimization it slowed it more than it saved (the hat: t_optim 25.6 s ->
-        // 28-34 s, the whole call 33.9 s -> 28-34 s on 2 cores), so it runs after.
-        progress("simulate", "theta2 = 0, from the target (Dist. to sim.)");
-        const auto t = Clock::now();
-        out.simulated =
-            simulate(theta2_plate_problem(chosen.problem, Eigen::VectorXd::Zero(carried.size())),
-                     chosen.problem.target, options.optimize.forward)
-                .V;
-        t_report_sim = seconds_since(t);
-      }
-    }
-    if (!carried_start) chosen.optimization = optimize_theta2(chosen.problem, {}, design_pass);
   }
-  if (out.simulated.size() == 0) {
-    // The optimization started from zeros: its first equilibrium is the theta2 = 0 simulation.
-    out.simulated = chosen.optimization.initial_V;
-    m.t_sim_s = chosen.optimization.initial_seconds;
-  } else {
-    m.t_sim_s = t_report_sim;
-  }
+  chosen.optimization = optimize_theta2(chosen.problem, {}, passes.design_pass);
+  return 0;
+}
+
+// The design's shapes, distances and Table 1's figures from the side chosen and optimized. The
+// optimization's time runs from `optimization_start`, less the flattening and the report's
+// simulation it interleaves with.
+void record_design(Design& out, SideDesign chosen, bool flip, const DesignOptions& options,
+                   Clock::time_point optimization_start, double flattening_seconds,
+                   double report_simulation_seconds) {
+  DesignMetrics& m = out.metrics;
   out.flat = std::move(chosen.flat);
   out.flipped = flip;
   out.side_agreement = printed_side_agreement(out.flat, options.material, options.layers);
-  progress("flatten", fmt::format("the target's {} (curvature agreement {:.2f})", side_name(flip),
-                                  out.side_agreement));
+  report_stage(options, "flatten",
+               fmt::format("the target's {} (curvature agreement {:.2f})", side_name(flip),
+                           out.side_agreement));
   out.optimization = std::move(chosen.optimization);
   const Theta2Problem& problem = chosen.problem;
 
-  m.t_optim_s = seconds_since(t_optim) - t_not_optim - t_report_sim;
+  m.t_optim_s = seconds_since(optimization_start) - flattening_seconds - report_simulation_seconds;
   out.optimized = out.optimization.V;
   out.theta2 = out.optimization.theta2;
   out.dist_to_sim = shape_distance(out.simulated, problem.target);
@@ -423,13 +477,58 @@ Design design_shrink_morph(Mesh target, const std::string& source, const DesignO
   m.optim_iterations = out.optimization.iterations;
   m.optim_objective = out.optimization.objective;
   m.optim_converged = out.optimization.converged;
-  progress("optimize theta2",
-           fmt::format("{} iterations ({}), distance to target {:.3f} % -> {:.3f} % average, "
-                       "{:.3f} % -> {:.3f} % max; {:.1f} s in Gauss-Newton solves, {:.1f} s in "
-                       "forward solves",
-                       m.optim_iterations, out.optimization.stop_reason, m.dist_to_sim_avg_pct,
-                       m.dist_to_optim_avg_pct, m.dist_to_sim_max_pct, m.dist_to_optim_max_pct,
-                       out.optimization.cg_seconds, out.optimization.forward_seconds));
+  report_stage(options, "optimize theta2",
+               fmt::format("{} iterations ({}), distance to target {:.3f} % -> {:.3f} % average, "
+                           "{:.3f} % -> {:.3f} % max; {:.1f} s in Gauss-Newton solves, {:.1f} s "
+                           "in forward solves",
+                           m.optim_iterations, out.optimization.stop_reason, m.dist_to_sim_avg_pct,
+                           m.dist_to_optim_avg_pct, m.dist_to_sim_max_pct, m.dist_to_optim_max_pct,
+                           out.optimization.cg_seconds, out.optimization.forward_seconds));
+}
+
+}  // namespace
+
+Design design_shrink_morph(Mesh target, const std::string& source, const DesignOptions& options) {
+  check_design_options(options);
+  if (options.stretch_candidate == kEveryStretch) {
+    return design_from_every_stretch(target, source, options);
+  }
+  Design out;
+  DesignMetrics& m = out.metrics;
+  const DesignLevels levels = prepare_design_levels(std::move(target), source, options, m);
+  CurvatureChoice curvature = choose_side_by_curvature(levels, options, m);
+  bool flip = curvature.flip;
+
+  const auto t_optim = Clock::now();
+  SideFlattening flattening{std::move(curvature.flatten_options), &levels.first_level(),
+                            std::move(curvature.probe)};
+  const Theta2Passes passes = theta2_passes(options);
+  std::optional<SideDesign> first;
+  if (!curvature.side_known) {
+    first = design_both_sides(flattening, levels, passes, options, flip, m);
+    m.first_pass_iterations = first->optimization.iterations;
+  }
+
+  SideDesign chosen;
+  double t_report_sim = 0;  // a theta2 = 0 simulation the optimization does not use
+  if (first && !levels.has_coarse) {
+    chosen = std::move(*first);  // the first pass ran on the design level: it is the design
+  } else {
+    chosen = flatten_side(flattening, levels.fine.mesh, flip, options, m);
+    const bool stretch_given = options.stretch_candidate >= 0;
+    if (curvature.stretch_clear && levels.has_coarse && !stretch_given) {
+      rechoose_stretch_on_design_level(chosen, flattening, levels, flip, options, m);
+    }
+    t_report_sim = optimize_design_level(chosen, first, levels, passes, options, out);
+  }
+  if (out.simulated.size() == 0) {
+    // The optimization started from zeros: its first equilibrium is the theta2 = 0 simulation.
+    out.simulated = chosen.optimization.initial_V;
+    m.t_sim_s = chosen.optimization.initial_seconds;
+  } else {
+    m.t_sim_s = t_report_sim;
+  }
+  record_design(out, std::move(chosen), flip, options, t_optim, flattening.seconds, t_report_sim);
   return out;
 }
 

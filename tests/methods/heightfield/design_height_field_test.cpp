@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -14,6 +15,8 @@
 #include "gcode/printer_profile.h"
 #include "material/material.h"
 #include "methods/heightfield/texture.h"
+#include "plate/layer_stack.h"
+#include "simulate/distance.h"
 #include "test_support.h"
 
 namespace flatmorph {
@@ -92,6 +95,54 @@ TEST(DesignHeightField, TheGcodePrintsEachSegmentWithinTheCurvesRange) {
   }
   ASSERT_EQ(d.paths.paths_per_hill.size(), 1u);
   EXPECT_EQ(d.paths.paths_per_hill[0], 1);
+}
+
+// The layer count is a design option: the stack the prediction and the optimizer simulate
+// (flat.stack.json) and the paths (plate.gcode) print the same number of layers, so the plate
+// simulated is as thick as the plate printed. Before, only the paths took it and the stack kept the
+// curve's 6 layers: twice the printed thickness at 3.
+TEST(DesignHeightField, ItsLayerCountIsTheSimulatedStacksAndThePrintedPathsAlike) {
+  const Material material = load_material("pla-geodesy");
+  const int num_layers = 3;
+  ASSERT_NE(material.thickness_curve->layers, num_layers);
+  HeightFieldDesignOptions options;
+  options.material = material;
+  options.num_layers = num_layers;
+  options.path_options.path_width = 0.4;
+  const HeightFieldDesign d =
+      design_height_field(height_field_example("hill", {60.0, 13.0, 2.0}), "hill", options);
+
+  const LayerStack& stack = d.plate.design.stack;
+  ASSERT_EQ(stack.num_layers(), num_layers);
+  ASSERT_EQ(d.flattened_plate.design.stack.num_layers(), num_layers);
+  ASSERT_EQ(d.paths.toolpath.layers.size(), static_cast<size_t>(num_layers));
+  const GcodeResult gcode =
+      make_gcode(d.paths.toolpath, load_printer("generic-marlin"), {material});
+  const testing::ReadGcode read = testing::read_gcode(gcode.text);
+  ASSERT_EQ(read.layers.size(), static_cast<size_t>(num_layers));
+
+  // The plate simulated: per face, num_layers layers of the face's layer height.
+  const Eigen::VectorXd* layer_height = d.plate.design.design_fields.find_face("layer_height");
+  ASSERT_NE(layer_height, nullptr);
+  for (Eigen::Index f = 0; f < stack.num_faces(); ++f) {
+    double thickness = 0;
+    for (const Layer& layer : stack.layers) thickness += layer.printed_thickness(f);
+    ASSERT_NEAR(thickness, num_layers * (*layer_height)(f), 1e-12) << f;
+  }
+  // The plate printed: its top layer's beads reach z = num_layers · h. The paths' σ is sampled
+  // along the segments and the faces' at their corners, so the thickest bead and the thickest face
+  // differ a little; a stack of the curve's 6 layers would be twice as thick.
+  double printed_top = 0;
+  for (const testing::ReadExtrusion& e : read.layers.back().extrusions) {
+    printed_top = std::max(printed_top, e.z);
+  }
+  const double simulated_top = printed_thickness_range(stack).second;
+  EXPECT_NEAR(simulated_top, printed_top, 0.25 * printed_top / num_layers);
+
+  // The optimizer simulates the same plate: its first equilibrium, from the prediction's shape and
+  // with the prediction's σ, is the prediction's.
+  ASSERT_TRUE(d.optimized);
+  EXPECT_LT(shape_distance(d.optimization.initial_V, d.flattened_prediction.aligned).max_mm, 1e-3);
 }
 
 // The texture bar: a checkerboard of 10 mm squares in the target's xy, printed on the
