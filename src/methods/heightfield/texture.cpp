@@ -21,6 +21,8 @@
 #include "common/error.h"
 #include "mesh/io.h"
 #include "mesh/io_internal.h"
+#include "mesh/plane_geometry.h"
+#include "mesh/polygon.h"
 
 namespace flatmorph {
 namespace {
@@ -74,10 +76,6 @@ std::string read_header(const std::filesystem::path& path) {
   return bytes;
 }
 
-double cross2(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-  return a.x() * b.y() - a.y() * b.x();
-}
-
 Eigen::Vector2d row2(const Eigen::MatrixXd& M, int v) { return Eigen::Vector2d(M(v, 0), M(v, 1)); }
 Eigen::Vector3d row3(const Eigen::MatrixXd& M, int v) {
   return Eigen::Vector3d(M(v, 0), M(v, 1), M(v, 2));
@@ -89,8 +87,7 @@ double area_3d(const Eigen::MatrixXd& X, const Eigen::MatrixXi& F, int f) {
 }
 
 double area_2d(const Eigen::MatrixXd& X, const Eigen::MatrixXi& F, int f) {
-  const Eigen::Vector2d a = row2(X, F(f, 0));
-  return 0.5 * std::abs(cross2(row2(X, F(f, 1)) - a, row2(X, F(f, 2)) - a));
+  return std::abs(triangle_signed_area(row2(X, F(f, 0)), row2(X, F(f, 1)), row2(X, F(f, 2))));
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -189,15 +186,6 @@ FaceGrid build_face_grid(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, dou
     }
   }
   return grid;
-}
-
-// The closest point of segment ab to p: its parameter t along ab and the distance.
-double segment_distance(const Eigen::Vector2d& p, const Eigen::Vector2d& a,
-                        const Eigen::Vector2d& b, double& t) {
-  const Eigen::Vector2d d = b - a;
-  const double length2 = d.squaredNorm();
-  t = length2 > 0.0 ? std::clamp((p - a).dot(d) / length2, 0.0, 1.0) : 0.0;
-  return (a + t * d - p).norm();
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -352,11 +340,7 @@ double clipped_area(const std::array<Eigen::Vector2d, 3>& triangle, double x0, d
   clip([&](const Eigen::Vector2d& p) { return x1 - p.x(); });
   clip([&](const Eigen::Vector2d& p) { return p.y() - y0; });
   clip([&](const Eigen::Vector2d& p) { return y1 - p.y(); });
-  double sum = 0.0;
-  for (size_t i = 0; i < polygon.size(); ++i) {
-    sum += cross2(polygon[i], polygon[(i + 1) % polygon.size()]);
-  }
-  return 0.5 * std::abs(sum);
+  return std::abs(signed_area(polygon));
 }
 
 // Area on the target surface of every square of side s that it touches.
