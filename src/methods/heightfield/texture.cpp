@@ -19,6 +19,7 @@
 
 #include "common/atomic_file.h"
 #include "common/error.h"
+#include "common/file_text.h"
 #include "mesh/io.h"
 #include "mesh/io_internal.h"
 #include "mesh/plane_geometry.h"
@@ -50,21 +51,7 @@ std::string read_text_file(const std::filesystem::path& path, const std::string&
     throw UserError(ErrorCategory::kFile,
                     fmt::format("{}: no such file: check the path of the {}", source, what));
   }
-  if (std::filesystem::is_directory(path, error)) {
-    throw UserError(ErrorCategory::kFile,
-                    fmt::format("{}: a folder, not a file: give the path of the {}", source, what));
-  }
-  std::ifstream in(path, std::ios::binary | std::ios::ate);
-  const std::streamoff size = in ? static_cast<std::streamoff>(in.tellg()) : -1;
-  std::string bytes(static_cast<size_t>(std::max<std::streamoff>(size, 0)), '\0');
-  in.seekg(0);
-  if (size < 0 || !in.read(bytes.data(), static_cast<std::streamsize>(bytes.size()))) {
-    throw UserError(ErrorCategory::kFile,
-                    fmt::format("{}: cannot read the file: check that it is a readable regular "
-                                "file",
-                                source));
-  }
-  return bytes;
+  return read_file_text(path, what);
 }
 
 // The start of a file, enough for any PLY header (read_mesh has read the whole file already).

@@ -8,6 +8,7 @@
 #include <cmath>
 
 #include "common/error.h"
+#include "common/file_text.h"
 #include "common/stopwatch.h"
 #include "mesh/polygon.h"
 #include "plate/laminate.h"
@@ -428,8 +429,8 @@ TilesDesign design_tiles(const TileLayout& layout, const TilesDesignOptions& opt
     for (const Ring& ring : tile.rings.rings) num_levels = std::max(num_levels, ring.level + 1);
     if (!spec.profile_csv.empty()) {
       // A drawn profile keeps its shape: scaled as a whole to the tile's radius.
-      tile.profile = scale_profile_to_length(
-          read_profile_csv(read_layout_file(spec.profile_csv), spec.profile_csv.string()), R);
+      const std::string csv = read_file_text(spec.profile_csv, "profile CSV");
+      tile.profile = scale_profile_to_length(read_profile_csv(csv, spec.profile_csv.string()), R);
     } else {
       tile.profile = tile_profile(spec.profile, R, spec.height_mm);
     }
