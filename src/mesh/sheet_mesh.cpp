@@ -1,4 +1,4 @@
-#include "methods/tiles/sheet_mesh.h"
+#include "mesh/sheet_mesh.h"
 
 #include <CGAL/Constrained_Delaunay_triangulation_2.h>
 #include <CGAL/Delaunay_mesh_face_base_2.h>
@@ -64,14 +64,14 @@ struct Outlines {
   std::vector<std::vector<Loop>> loops;  // per region: boundary, then holes
 };
 
-std::string sheet_name(const std::vector<TileOutline>& regions) {
+std::string sheet_name(const std::vector<PlaneRegion>& regions) {
   const std::string count =
       fmt::format("the sheet of {} region{}", regions.size(), regions.size() == 1 ? "" : "s");
   if (regions[0].source.empty()) return count;
   return fmt::format("{} ({}{})", count, regions[0].source, regions.size() > 1 ? ", ..." : "");
 }
 
-std::string describe(const TileOutline& region, size_t index) {
+std::string describe(const PlaneRegion& region, size_t index) {
   return region.source.empty() ? fmt::format("region {}", index)
                                : fmt::format("region {} ({})", index, region.source);
 }
@@ -131,11 +131,11 @@ class PointMerger {
 // The regions' loops on merged points, with every outline point that lies on another loop's
 // segment inserted into that segment (T-junctions of tiles joined edge to edge), and every
 // segment then split evenly to at most max_edge, the same way from both sides.
-Outlines build_outlines(const std::vector<TileOutline>& regions, double max_edge) {
+Outlines build_outlines(const std::vector<PlaneRegion>& regions, double max_edge) {
   Outlines out;
   PointMerger merger(out.points);
   for (size_t r = 0; r < regions.size(); ++r) {
-    const TileOutline& region = regions[r];
+    const PlaneRegion& region = regions[r];
     check_loop(region.boundary, describe(region, r), "boundary");
     for (const Eigen::MatrixX2d& hole : region.holes) check_loop(hole, describe(region, r), "hole");
     std::vector<Loop>& loops = out.loops.emplace_back();
@@ -301,9 +301,9 @@ std::vector<Component> components(Cdt& cdt, bool in_domain_only) {
 
 }  // namespace
 
-SheetMesh sheet_mesh(const std::vector<TileOutline>& regions, const SheetMeshOptions& options) {
+SheetMesh sheet_mesh(const std::vector<PlaneRegion>& regions, const SheetMeshOptions& options) {
   if (regions.empty()) {
-    throw UserError(ErrorCategory::kGeometry, "sheet mesh: no tile outlines given; give at least one");
+    throw UserError(ErrorCategory::kGeometry, "sheet mesh: no outlines given; give at least one");
   }
   const std::string name = sheet_name(regions);
   if (!(options.max_edge > 0) || !std::isfinite(options.max_edge)) {
@@ -471,7 +471,7 @@ SheetMesh sheet_mesh(const std::vector<TileOutline>& regions, const SheetMeshOpt
   return mesh;
 }
 
-RingFrame ring_frame(const TileOutline& outline, const Eigen::MatrixX2d& points) {
+RingFrame ring_frame(const PlaneRegion& outline, const Eigen::MatrixX2d& points) {
   struct Segment {
     Eigen::Vector2d a, b;
     double min_x, max_x, min_y, max_y;
