@@ -6,16 +6,15 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
-#include <fstream>
 #include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <numbers>
-#include <sstream>
 
 #include "calibration/calibration_print.h"
 #include "calibration/sheet_csv.h"
 #include "common/error.h"
+#include "common/file_text.h"
 #include "common/markup.h"
 
 namespace flatmorph {
@@ -422,14 +421,6 @@ bool is_hinge_sheet(std::string_view text) {
 
 namespace {
 
-std::string read_text(const std::filesystem::path& path, bool& ok) {
-  std::ifstream in(path, std::ios::binary);
-  ok = static_cast<bool>(in);
-  std::stringstream text;
-  if (ok) text << in.rdbuf();
-  return text.str();
-}
-
 HingeStack parse_stack(std::string_view value, const std::string& where) {
   auto fail = [&](const std::string& problem) -> UserError {
     return UserError(ErrorCategory::kFormat,
@@ -498,9 +489,11 @@ HingeStripMeasurement parse_strip(const SheetRow& r, int line) {
 }  // namespace
 
 bool is_hinge_sheet_file(const std::filesystem::path& path) {
-  bool ok = false;
-  const std::string text = read_text(path, ok);
-  return ok && is_hinge_sheet(text);
+  try {
+    return is_hinge_sheet(read_file_text(path, "measurements"));
+  } catch (const UserError&) {
+    return false;  // the ordinary reader says why
+  }
 }
 
 HingeSheet parse_hinge_measurements(std::string_view text, const std::string& source) {
@@ -592,13 +585,7 @@ HingeSheet parse_hinge_measurements(std::string_view text, const std::string& so
 }
 
 HingeSheet read_hinge_measurements(const std::filesystem::path& path) {
-  bool ok = false;
-  const std::string text = read_text(path, ok);
-  if (!ok) {
-    throw UserError(ErrorCategory::kFile,
-                    fmt::format("{}: cannot open the measurements; check the path", path.string()));
-  }
-  return parse_hinge_measurements(text, path.string());
+  return parse_hinge_measurements(read_file_text(path, "measurements"), path.string());
 }
 
 HingeCurveFit fit_hinge_curve(const HingeSheet& sheet, int max_degree) {

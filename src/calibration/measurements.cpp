@@ -6,12 +6,11 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
-#include <fstream>
 #include <map>
-#include <sstream>
 
 #include "calibration/sheet_csv.h"
 #include "common/error.h"
+#include "common/file_text.h"
 
 namespace flatmorph {
 namespace {
@@ -219,14 +218,7 @@ MeasurementSheet parse_measurements(std::string_view text, const std::string& so
 }
 
 MeasurementSheet read_measurements(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    throw UserError(ErrorCategory::kFile,
-                    fmt::format("{}: cannot open the measurements; check the path", path.string()));
-  }
-  std::stringstream text;
-  text << in.rdbuf();
-  return parse_measurements(text.str(), path.string());
+  return parse_measurements(read_file_text(path, "measurements"), path.string());
 }
 
 std::vector<SampleRatios> sample_ratios(const MeasurementSheet& sheet) {

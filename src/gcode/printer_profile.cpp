@@ -7,7 +7,6 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <nlohmann/json.hpp>
 #include <numbers>
 #include <set>
@@ -16,6 +15,7 @@
 
 #include "common/embedded_profiles.h"
 #include "common/error.h"
+#include "common/file_text.h"
 
 namespace flatmorph {
 namespace {
@@ -503,15 +503,7 @@ PrinterProfile load_printer(const std::string& name_or_path) {
                                 "'flatmorph printers' lists the presets",
                                 name_or_path, fmt::join(printer_preset_names(), ", ")));
   }
-  std::ifstream in(name_or_path, std::ios::binary);
-  if (!in) {
-    throw UserError(
-        ErrorCategory::kFile,
-        fmt::format("{}: cannot open the printer file; check its permissions", name_or_path));
-  }
-  std::stringstream text;
-  text << in.rdbuf();
-  return parse_printer(text.str(), name_or_path);
+  return parse_printer(read_file_text(name_or_path, "printer file"), name_or_path);
 }
 
 std::string_view to_string(GcodeFlavor flavor) {

@@ -5,13 +5,12 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <nlohmann/json.hpp>
-#include <sstream>
 
 #include "common/atomic_file.h"
 #include "common/embedded_profiles.h"
 #include "common/error.h"
+#include "common/file_text.h"
 
 namespace flatmorph {
 namespace {
@@ -410,15 +409,8 @@ Material load_material(const std::string& name_or_path) {
                     fmt::format("unknown material \"{}\": not a preset ({}) and no such file",
                                 name_or_path, fmt::join(material_preset_names(), ", ")));
   }
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    throw UserError(
-        ErrorCategory::kFile,
-        fmt::format("{}: cannot open the material file; check its permissions", name_or_path));
-  }
-  std::stringstream text;
-  text << in.rdbuf();
-  return parse_material(parse_json(text.str(), name_or_path), name_or_path, path.stem().string());
+  return parse_material(parse_json(read_file_text(path, "material file"), name_or_path),
+                        name_or_path, path.stem().string());
 }
 
 }  // namespace flatmorph

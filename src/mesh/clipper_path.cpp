@@ -1,5 +1,6 @@
 #include "mesh/clipper_path.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace flatmorph {
@@ -21,6 +22,20 @@ Eigen::MatrixX2d from_clipper_path(const ClipperLib::Path& path, double scale) {
     polygon(static_cast<Eigen::Index>(i), 1) = static_cast<double>(path[i].Y) / scale;
   }
   return polygon;
+}
+
+ClipperLib::Paths clip_open_path(const ClipperLib::Path& line, const ClipperLib::Paths& area) {
+  ClipperLib::Clipper clipper;
+  clipper.AddPath(line, ClipperLib::ptSubject, false);
+  clipper.AddPaths(area, ClipperLib::ptClip, true);
+  ClipperLib::PolyTree tree;
+  clipper.Execute(ClipperLib::ctIntersection, tree, ClipperLib::pftNonZero, ClipperLib::pftNonZero);
+  ClipperLib::Paths pieces;
+  ClipperLib::OpenPathsFromPolyTree(tree, pieces);
+  pieces.erase(std::remove_if(pieces.begin(), pieces.end(),
+                              [](const ClipperLib::Path& piece) { return piece.size() < 2; }),
+               pieces.end());
+  return pieces;
 }
 
 }  // namespace flatmorph

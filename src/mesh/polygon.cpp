@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "mesh/clipper_path.h"
+#include "mesh/plane_geometry.h"
 
 namespace flatmorph {
 namespace {
@@ -16,15 +17,48 @@ namespace {
 // Clipper's integer plane: 1 nm per unit keeps every net of a printer's bed far inside its range.
 constexpr double kClipperScale = 1e6;
 
-}  // namespace
-
-double signed_area(const Eigen::MatrixX2d& polygon) {
+template <typename Corners>
+double shoelace_area(const Eigen::MatrixBase<Corners>& polygon) {
   double twice = 0;
   for (Eigen::Index i = 0; i < polygon.rows(); ++i) {
     const Eigen::Index j = (i + 1) % polygon.rows();
     twice += polygon(i, 0) * polygon(j, 1) - polygon(j, 0) * polygon(i, 1);
   }
   return twice / 2;
+}
+
+template <typename Corners>
+bool even_odd_inside(const Eigen::MatrixBase<Corners>& polygon, const Eigen::Vector2d& p) {
+  bool inside = false;
+  for (Eigen::Index i = 0, j = polygon.rows() - 1; i < polygon.rows(); j = i++) {
+    if (side_crosses_ray(p, polygon.row(i).transpose(), polygon.row(j).transpose())) {
+      inside = !inside;
+    }
+  }
+  return inside;
+}
+
+// The corners of a loop as the rows of one array, read in place.
+Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor>> corner_rows(
+    const std::vector<Eigen::Vector2d>& polygon) {
+  return {polygon.empty() ? nullptr : polygon.front().data(),
+          static_cast<Eigen::Index>(polygon.size()), 2};
+}
+
+}  // namespace
+
+double signed_area(const Eigen::MatrixX2d& polygon) { return shoelace_area(polygon); }
+
+double signed_area(const std::vector<Eigen::Vector2d>& polygon) {
+  return shoelace_area(corner_rows(polygon));
+}
+
+bool point_in_polygon(const Eigen::MatrixX2d& polygon, const Eigen::Vector2d& p) {
+  return even_odd_inside(polygon, p);
+}
+
+bool point_in_polygon(const std::vector<Eigen::Vector2d>& polygon, const Eigen::Vector2d& p) {
+  return even_odd_inside(corner_rows(polygon), p);
 }
 
 // Overlapping by more than a sliver: rounding to Clipper's grid leaves slivers of about 1e-6 mm
@@ -53,7 +87,7 @@ Eigen::MatrixX3i triangulate_polygon(const Eigen::MatrixX2d& polygon) {
   const auto turn = [&](int a, int b, int c) {
     const Eigen::Vector2d ab = (polygon.row(b) - polygon.row(a)).transpose();
     const Eigen::Vector2d ac = (polygon.row(c) - polygon.row(a)).transpose();
-    return sense * (ab.x() * ac.y() - ab.y() * ac.x());
+    return sense * cross2(ab, ac);
   };
   std::vector<int> left(n);
   for (int i = 0; i < n; ++i) left[i] = i;

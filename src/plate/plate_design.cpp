@@ -5,13 +5,12 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <fstream>
 #include <nlohmann/json.hpp>
-#include <sstream>
 #include <stdexcept>
 
 #include "common/atomic_file.h"
 #include "common/error.h"
+#include "common/file_text.h"
 #include "common/memory.h"
 #include "mesh/io.h"
 
@@ -190,13 +189,10 @@ PlateDesignFile read_plate_design(const std::filesystem::path& plate_mesh_path,
     return out;
   }
 
-  std::ifstream in(stack_path, std::ios::binary);
-  std::stringstream text;
-  text << in.rdbuf();
-  if (!in && !in.eof()) stack_error(stack_path, "cannot be read");
+  const std::string text = read_file_text(stack_path, "stack file");
   nlohmann::json j;
   try {
-    j = nlohmann::json::parse(text.str());
+    j = nlohmann::json::parse(text);
   } catch (const nlohmann::json::exception& e) {
     stack_error(stack_path, fmt::format("not valid JSON ({})", e.what()));
   }

@@ -2,10 +2,8 @@
 
 #include <fmt/core.h>
 
-#include <fstream>
-#include <iterator>
-
 #include "common/error.h"
+#include "common/file_text.h"
 
 namespace flatmorph {
 
@@ -35,13 +33,8 @@ RunFolder read_run_folder(const std::filesystem::path& dir) {
     run.gcode_simulated = read_mesh(dir / "gcode_simulated.ply");
   }
   if (exists("design.json")) {
-    std::ifstream in(dir / "design.json");
-    if (!in) {
-      throw UserError(ErrorCategory::kFile, fmt::format("{}: cannot read the file; check its "
-                                                        "permissions",
-                                                        (dir / "design.json").string()));
-    }
-    run.design = nlohmann::ordered_json::parse(in, nullptr, false);
+    run.design =
+        nlohmann::ordered_json::parse(read_file_text(dir / "design.json", "file"), nullptr, false);
     if (run.design.is_discarded() || !run.design.is_object()) {
       throw UserError(ErrorCategory::kFormat,
                       fmt::format("{}: not a JSON object; run flatmorph design again to rewrite it",
@@ -57,12 +50,11 @@ RunFolder read_run_folder(const std::filesystem::path& dir) {
       const std::string name = entry.get<std::string>();
       const std::filesystem::path path(name);
       if (path.filename() != path || path.extension() != ".svg") continue;
-      std::ifstream in(dir / path, std::ios::binary);
-      if (!in) {
+      if (!std::filesystem::is_regular_file(dir / path, ec)) {
         run.missing.push_back(name);
         continue;
       }
-      run.drawings.emplace_back(name, std::string(std::istreambuf_iterator<char>(in), {}));
+      run.drawings.emplace_back(name, read_file_text(dir / path, "drawing"));
     }
   }
   if (!run.design.is_object() && run.missing.size() == 5) {

@@ -4,11 +4,10 @@
 
 #include <atomic>
 #include <chrono>
-#include <fstream>
-#include <sstream>
 #include <thread>
 
 #include "common/error.h"
+#include "common/file_text.h"
 #include "report/report.h"
 
 // After Eigen: httplib.h brings <resolv.h>, whose _res macro breaks Eigen's headers.
@@ -41,15 +40,12 @@ void serve_run_folder(const std::filesystem::path& run_dir, const ViewServerOpti
                            "layers/overview.png"}) {
     const std::filesystem::path file = run_dir / name;
     server.Get(std::string("/") + name, [file](const httplib::Request&, httplib::Response& res) {
-      std::ifstream in(file, std::ios::binary);
-      if (!in) {
+      try {
+        res.set_content(read_file_text(file, "picture"), "image/png");
+      } catch (const UserError&) {
         res.status = 404;
         res.set_content("not in the run folder (run flatmorph report DIR)\n", "text/plain");
-        return;
       }
-      std::ostringstream bytes;
-      bytes << in.rdbuf();
-      res.set_content(bytes.str(), "image/png");
     });
   }
 

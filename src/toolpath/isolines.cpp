@@ -6,18 +6,12 @@
 #include <limits>
 #include <numbers>
 
+#include "mesh/plane_geometry.h"
+
 namespace flatmorph {
 namespace {
 
 constexpr double kTwoPi = 2 * std::numbers::pi;
-
-double segment_distance(const Eigen::Vector2d& p, const Eigen::Vector2d& a,
-                        const Eigen::Vector2d& b) {
-  const Eigen::Vector2d ab = b - a;
-  const double length2 = ab.squaredNorm();
-  const double t = length2 > 0 ? std::clamp((p - a).dot(ab) / length2, 0.0, 1.0) : 0.0;
-  return (a + t * ab - p).norm();
-}
 
 // Segments of all polylines bucketed in square cells, for distance queries within a radius.
 class SegmentGrid {

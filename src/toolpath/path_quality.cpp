@@ -5,6 +5,7 @@
 #include <limits>
 #include <numbers>
 
+#include "mesh/plane_geometry.h"
 #include "mesh/topology.h"
 #include "toolpath/line_field.h"
 
@@ -56,14 +57,6 @@ class Grid {
   int nx_, ny_;
   std::vector<std::vector<int>> cells_;
 };
-
-double segment_distance(const Eigen::Vector2d& p, const Eigen::Vector2d& a,
-                        const Eigen::Vector2d& b) {
-  const Eigen::Vector2d ab = b - a;
-  const double length2 = ab.squaredNorm();
-  const double t = length2 > 0 ? std::clamp((p - a).dot(ab) / length2, 0.0, 1.0) : 0.0;
-  return (a + t * ab - p).norm();
-}
 
 // Barycentric coordinates of p in triangle (a, b, c).
 Eigen::Vector3d barycentric(const Eigen::Vector2d& p, const Eigen::Vector2d& a,

@@ -4,19 +4,9 @@
 #include <utility>
 #include <vector>
 
+#include "mesh/plane_geometry.h"
+
 namespace flatmorph {
-namespace {
-
-// Distance in xy from p to the segment [a, b].
-double segment_distance(const Eigen::Vector2d& p, const Eigen::Vector2d& a,
-                        const Eigen::Vector2d& b) {
-  const Eigen::Vector2d ab = b - a;
-  const double length2 = ab.squaredNorm();
-  const double t = length2 > 0 ? std::clamp((p - a).dot(ab) / length2, 0.0, 1.0) : 0.0;
-  return (a + t * ab - p).norm();
-}
-
-}  // namespace
 
 Eigen::MatrixXd simplify_polyline(const Eigen::MatrixXd& points, double tolerance_mm) {
   const int n = static_cast<int>(points.rows());

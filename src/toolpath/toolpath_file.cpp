@@ -3,12 +3,11 @@
 #include <fmt/core.h>
 
 #include <cmath>
-#include <fstream>
 #include <nlohmann/json.hpp>
-#include <sstream>
 
 #include "common/atomic_file.h"
 #include "common/error.h"
+#include "common/file_text.h"
 
 namespace flatmorph {
 namespace {
@@ -78,20 +77,14 @@ void write_toolpath_file(const std::filesystem::path& path, const Toolpath& tool
 
 ToolpathFile read_toolpath_file(const std::filesystem::path& path) {
   const std::string name = path.string();
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    throw UserError(ErrorCategory::kFile,
-                    fmt::format("{}: cannot read the file; check its permissions", name));
-  }
-  std::stringstream text;
-  text << in.rdbuf();
+  const std::string text = read_file_text(path, "toolpath file");
   const auto bad = [&](const std::string& problem) {
     return UserError(ErrorCategory::kFormat,
                      fmt::format("{}: {}; write it again with 'flatmorph toolpaths' or "
                                  "'flatmorph design'",
                                  name, problem));
   };
-  const nlohmann::json j = nlohmann::json::parse(text.str(), nullptr, false);
+  const nlohmann::json j = nlohmann::json::parse(text, nullptr, false);
   if (j.is_discarded() || !j.is_object() || j.value("format", "") != kFormat) {
     throw bad("not a flatmorph toolpath file");
   }

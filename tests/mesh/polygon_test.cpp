@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <vector>
 
 namespace flatmorph {
 namespace {
@@ -21,6 +22,43 @@ TEST(Polygon, SignedAreaIsTheEnclosedAreaWithTheLoopsSense) {
   l_shape << 0, 0, 2, 0, 2, 1, 1, 1, 1, 2, 0, 2;
   EXPECT_DOUBLE_EQ(signed_area(l_shape), 3);
   EXPECT_EQ(signed_area(Eigen::MatrixX2d(0, 2)), 0);
+}
+
+std::vector<Eigen::Vector2d> corners(const Eigen::MatrixX2d& polygon) {
+  std::vector<Eigen::Vector2d> out;
+  for (Eigen::Index i = 0; i < polygon.rows(); ++i) out.push_back(polygon.row(i).transpose());
+  return out;
+}
+
+// The loop as a list of points gives the same bits as the loop as rows, in either sense.
+TEST(Polygon, SignedAreaOfAListOfPointsIsTheSame) {
+  Eigen::MatrixX2d l_shape(6, 2);
+  l_shape << 0, 0, 2, 0, 2, 1, 1, 1, 1, 2, 0, 2;
+  EXPECT_DOUBLE_EQ(signed_area(corners(l_shape)), 3);
+  EXPECT_DOUBLE_EQ(signed_area(corners(l_shape.colwise().reverse())), -3);
+  const Eigen::Matrix2d turn = Eigen::Rotation2Dd(0.83).toRotationMatrix();
+  const Eigen::MatrixX2d moved = (l_shape * turn.transpose()).rowwise() + Eigen::RowVector2d(7, -4);
+  EXPECT_EQ(signed_area(corners(moved)), signed_area(moved));
+  EXPECT_EQ(signed_area(std::vector<Eigen::Vector2d>{}), 0);
+}
+
+// The L shape's inside, its cut-away quarter and the outside; either sense, either form.
+TEST(Polygon, PointInPolygonFollowsTheEvenOddRule) {
+  Eigen::MatrixX2d l_shape(6, 2);
+  l_shape << 0, 0, 2, 0, 2, 1, 1, 1, 1, 2, 0, 2;
+  const Eigen::MatrixX2d reversed = l_shape.colwise().reverse();
+  for (const Eigen::MatrixX2d& polygon : {l_shape, reversed}) {
+    EXPECT_TRUE(point_in_polygon(polygon, Eigen::Vector2d(0.5, 1.5)));
+    EXPECT_TRUE(point_in_polygon(polygon, Eigen::Vector2d(1.5, 0.5)));
+    EXPECT_FALSE(point_in_polygon(polygon, Eigen::Vector2d(1.5, 1.5)));  // the missing quarter
+    EXPECT_FALSE(point_in_polygon(polygon, Eigen::Vector2d(-0.5, 0.5)));
+    EXPECT_FALSE(point_in_polygon(polygon, Eigen::Vector2d(0.5, 2.5)));
+    // A ray through a corner (y = 1) counts it once.
+    EXPECT_TRUE(point_in_polygon(polygon, Eigen::Vector2d(0.5, 1)));
+    EXPECT_TRUE(point_in_polygon(corners(polygon), Eigen::Vector2d(0.5, 1.5)));
+    EXPECT_FALSE(point_in_polygon(corners(polygon), Eigen::Vector2d(1.5, 1.5)));
+  }
+  EXPECT_FALSE(point_in_polygon(Eigen::MatrixX2d(0, 2), Eigen::Vector2d(0, 0)));
 }
 
 Eigen::MatrixX2d square(double x, double y, double side) {

@@ -6,13 +6,14 @@
 #include <array>
 #include <climits>
 #include <cmath>
-#include <fstream>
+#include <cstdint>
 #include <memory>
 #include <stdexcept>
 #include <system_error>
 #include <type_traits>
 
 #include "common/error.h"
+#include "common/file_text.h"
 #include "methods/heightfield/gray_image.h"
 
 // Declarations only: the decoder is compiled once, in stb_image_png.cpp.
@@ -24,7 +25,7 @@ namespace {
 
 // As for height maps (gray_image.cpp): no PNG of at most kMaxGrayImagePixels pixels of 4 channels
 // of 16 bits is larger.
-constexpr std::streamoff kMaxFileBytes = 640LL << 20;
+constexpr std::uintmax_t kMaxFileBytes = 640ULL << 20;
 
 constexpr std::array<unsigned char, 8> kPngSignature = {0x89, 'P',  'N',  'G',
                                                         '\r', '\n', 0x1a, '\n'};
@@ -196,30 +197,14 @@ ColorImage read_color_png(const std::filesystem::path& path) {
     refuse(ErrorCategory::kFile, source,
            "no such file: check the path of the texture image (a PNG)");
   }
-  // A directory opens as a stream on Linux, with a nonsense size.
-  if (std::filesystem::is_directory(path, error)) {
-    refuse(ErrorCategory::kFile, source, "a folder, not a file: give the path of the texture PNG");
-  }
-  std::ifstream in(path, std::ios::binary | std::ios::ate);
-  if (!in) {
-    refuse(ErrorCategory::kFile, source,
-           "cannot open the file: check the path and its permissions");
-  }
-  const std::streamoff size = in.tellg();
-  if (size < 0) {
-    refuse(ErrorCategory::kFile, source, "cannot read the file: check that it is a regular file");
-  }
-  if (size > kMaxFileBytes) {
-    refuse(ErrorCategory::kResource, source,
-           fmt::format("{} bytes is too large for a texture PNG; scale the image down to at most "
-                       "8192 x 8192 pixels",
-                       static_cast<long long>(size)));
-  }
-  std::string bytes(static_cast<size_t>(size), '\0');
-  in.seekg(0);
-  if (!in.read(bytes.data(), static_cast<std::streamsize>(bytes.size()))) {
-    refuse(ErrorCategory::kFile, source, "cannot read the file: check that it is a regular file");
-  }
+  const std::string bytes = read_file_text(path, "texture PNG", [&](std::uintmax_t size) {
+    if (size > kMaxFileBytes) {
+      refuse(ErrorCategory::kResource, source,
+             fmt::format("{} bytes is too large for a texture PNG; scale the image down to at "
+                         "most 8192 x 8192 pixels",
+                         size));
+    }
+  });
   return read_color_png_bytes(bytes, source);
 }
 

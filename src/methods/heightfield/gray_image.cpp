@@ -6,12 +6,12 @@
 #include <array>
 #include <climits>
 #include <cmath>
-#include <fstream>
+#include <cstdint>
 #include <memory>
-#include <system_error>
 #include <type_traits>
 
 #include "common/error.h"
+#include "common/file_text.h"
 
 // Declarations only: the decoder is compiled in stb_image_png.cpp.
 #define STBI_NO_STDIO
@@ -22,7 +22,7 @@ namespace {
 
 // A file larger than this cannot be a PNG of at most kMaxGrayImagePixels pixels of 4 channels of
 // 16 bits (512 MiB uncompressed, and deflate expands incompressible data by well under 1 %).
-constexpr std::streamoff kMaxFileBytes = 640LL << 20;
+constexpr std::uintmax_t kMaxFileBytes = 640ULL << 20;
 
 constexpr std::array<unsigned char, 8> kPngSignature = {0x89, 'P',  'N',  'G',
                                                         '\r', '\n', 0x1a, '\n'};
@@ -150,37 +150,14 @@ GrayImage read_gray_png_bytes(std::string_view bytes, const std::string& source)
 
 GrayImage read_gray_png(const std::filesystem::path& path) {
   const std::string source = path.string();
-  std::error_code error;
-  // A directory opens as a stream on Linux, with a nonsense size.
-  if (std::filesystem::is_directory(path, error)) {
-    throw UserError(ErrorCategory::kFile,
-                    fmt::format("{}: a folder, not a file: give the path of the PNG", source));
-  }
-  std::ifstream in(path, std::ios::binary | std::ios::ate);
-  if (!in) {
-    throw UserError(
-        ErrorCategory::kFile,
-        fmt::format("{}: cannot open the file: check the path and its permissions", source));
-  }
-  const std::streamoff size = in.tellg();
-  if (size < 0) {
-    throw UserError(
-        ErrorCategory::kFile,
-        fmt::format("{}: cannot read the file: check that it is a regular file", source));
-  }
-  if (size > kMaxFileBytes) {
-    throw UserError(ErrorCategory::kResource,
-                    fmt::format("{}: {} bytes is too large for a height map PNG; scale the image "
-                                "down to at most 8192 x 8192 pixels",
-                                source, static_cast<long long>(size)));
-  }
-  std::string bytes(static_cast<size_t>(size), '\0');
-  in.seekg(0);
-  if (!in.read(bytes.data(), static_cast<std::streamsize>(bytes.size()))) {
-    throw UserError(
-        ErrorCategory::kFile,
-        fmt::format("{}: cannot read the file: check that it is a regular file", source));
-  }
+  const std::string bytes = read_file_text(path, "height map PNG", [&](std::uintmax_t size) {
+    if (size > kMaxFileBytes) {
+      throw UserError(ErrorCategory::kResource,
+                      fmt::format("{}: {} bytes is too large for a height map PNG; scale the "
+                                  "image down to at most 8192 x 8192 pixels",
+                                  source, size));
+    }
+  });
   return read_gray_png_bytes(bytes, source);
 }
 

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "common/error.h"
+#include "mesh/plane_geometry.h"
 #include "mesh/topology.h"
 #include "mesh/validate.h"
 
@@ -28,10 +29,6 @@ std::string at_xy(const Eigen::Vector2d& p) {
 }
 
 Eigen::Vector2d xy(const Eigen::MatrixXd& V, int v) { return Eigen::Vector2d(V(v, 0), V(v, 1)); }
-
-double cross2(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-  return a.x() * b.y() - a.y() * b.x();
-}
 
 // Twice the signed area of face f seen from above (positive when counter-clockwise).
 double signed_area2_xy(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, int f) {
@@ -112,29 +109,6 @@ void check_disk(const HeightField& field, const std::vector<std::vector<int>>& l
                        chi, (1 - chi) / 2, at_xy(lo), at_xy(hi)),
            "a height field is one sheet without tunnels or handles: cut them away");
   }
-}
-
-// A point both segments pq and rs share, if any (touching and collinear overlap included).
-std::optional<Eigen::Vector2d> segment_intersection(const Eigen::Vector2d& p,
-                                                    const Eigen::Vector2d& q,
-                                                    const Eigen::Vector2d& r,
-                                                    const Eigen::Vector2d& s) {
-  const double d1 = cross2(q - p, r - p), d2 = cross2(q - p, s - p);
-  const double d3 = cross2(s - r, p - r), d4 = cross2(s - r, q - r);
-  if (((d1 > 0 && d2 < 0) || (d1 < 0 && d2 > 0)) && ((d3 > 0 && d4 < 0) || (d3 < 0 && d4 > 0))) {
-    return p + (q - p) * (d3 / (d3 - d4));
-  }
-  // Touching: an endpoint on the other segment (collinear with it and inside its box).
-  auto on_segment = [](const Eigen::Vector2d& a, const Eigen::Vector2d& b,
-                       const Eigen::Vector2d& x) {
-    return x.x() >= std::min(a.x(), b.x()) && x.x() <= std::max(a.x(), b.x()) &&
-           x.y() >= std::min(a.y(), b.y()) && x.y() <= std::max(a.y(), b.y());
-  };
-  if (d1 == 0 && on_segment(p, q, r)) return r;
-  if (d2 == 0 && on_segment(p, q, s)) return s;
-  if (d3 == 0 && on_segment(r, s, p)) return p;
-  if (d4 == 0 && on_segment(r, s, q)) return q;
-  return std::nullopt;
 }
 
 // Where the boundary loop crosses or touches itself seen from above, if it does. A sweep over x:

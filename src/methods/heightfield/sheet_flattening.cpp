@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "common/error.h"
+#include "mesh/plane_geometry.h"
 #include "mesh/topology.h"
 #include "numerics/sparse_cholesky.h"
 
@@ -360,16 +361,19 @@ void relocate(const Sheet& s, const SheetFlatteningOptions& o, Eigen::MatrixXd& 
   x += shift;
 }
 
-double signed_area(const Eigen::MatrixXd& p, int a, int b, int c) {
-  return 0.5 *
-         ((p(b, 0) - p(a, 0)) * (p(c, 1) - p(a, 1)) - (p(b, 1) - p(a, 1)) * (p(c, 0) - p(a, 0)));
+// The signed area of face f seen from above at x, mm²: negative when turned over.
+double sheet_face_area(const Sheet& s, const Eigen::MatrixXd& x, int f) {
+  const auto corner = [&](int k) -> Eigen::Vector2d {
+    return x.row(s.F(f, k)).head<2>().transpose();
+  };
+  return triangle_signed_area(corner(0), corner(1), corner(2));
 }
 
 // Per face: whether its area seen from above is below its guard's least area at x.
 std::vector<char> held_faces(const Sheet& s, const Eigen::MatrixXd& x) {
   std::vector<char> held(s.F.rows());
   for (int f = 0; f < s.F.rows(); ++f) {
-    held[f] = !(signed_area(x, s.F(f, 0), s.F(f, 1), s.F(f, 2)) >= s.guards[f].least_area);
+    held[f] = !(sheet_face_area(s, x, f) >= s.guards[f].least_area);
   }
   return held;
 }
@@ -379,7 +383,7 @@ int folded_faces(const Sheet& s, const Eigen::MatrixXd& x) {
   const double least = 1e-9 * s.mean_length * s.mean_length;
   int count = 0;
   for (int f = 0; f < s.F.rows(); ++f) {
-    count += !(signed_area(x, s.F(f, 0), s.F(f, 1), s.F(f, 2)) > least);
+    count += !(sheet_face_area(s, x, f) > least);
   }
   return count;
 }
@@ -731,7 +735,7 @@ FlatSheet flatten_sheet(const IsolineMesh& mesh, const SheetFlatteningOptions& o
   plate.rowwise() -= plate.colwise().mean().eval();
   double total_area = 0;
   for (int f = 0; f < s.F.rows(); ++f) {
-    total_area += signed_area(plate, s.F(f, 0), s.F(f, 1), s.F(f, 2));
+    total_area += sheet_face_area(s, plate, f);
   }
   if (total_area < 0) plate.col(0) *= -1;
   Eigen::MatrixXd footprint = mesh.V.leftCols(2);

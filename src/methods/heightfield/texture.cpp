@@ -19,8 +19,11 @@
 
 #include "common/atomic_file.h"
 #include "common/error.h"
+#include "common/file_text.h"
 #include "mesh/io.h"
 #include "mesh/io_internal.h"
+#include "mesh/plane_geometry.h"
+#include "mesh/polygon.h"
 
 namespace flatmorph {
 namespace {
@@ -48,21 +51,7 @@ std::string read_text_file(const std::filesystem::path& path, const std::string&
     throw UserError(ErrorCategory::kFile,
                     fmt::format("{}: no such file: check the path of the {}", source, what));
   }
-  if (std::filesystem::is_directory(path, error)) {
-    throw UserError(ErrorCategory::kFile,
-                    fmt::format("{}: a folder, not a file: give the path of the {}", source, what));
-  }
-  std::ifstream in(path, std::ios::binary | std::ios::ate);
-  const std::streamoff size = in ? static_cast<std::streamoff>(in.tellg()) : -1;
-  std::string bytes(static_cast<size_t>(std::max<std::streamoff>(size, 0)), '\0');
-  in.seekg(0);
-  if (size < 0 || !in.read(bytes.data(), static_cast<std::streamsize>(bytes.size()))) {
-    throw UserError(ErrorCategory::kFile,
-                    fmt::format("{}: cannot read the file: check that it is a readable regular "
-                                "file",
-                                source));
-  }
-  return bytes;
+  return read_file_text(path, what);
 }
 
 // The start of a file, enough for any PLY header (read_mesh has read the whole file already).
@@ -72,10 +61,6 @@ std::string read_header(const std::filesystem::path& path) {
   in.read(bytes.data(), static_cast<std::streamsize>(bytes.size()));
   bytes.resize(static_cast<size_t>(in.gcount()));
   return bytes;
-}
-
-double cross2(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-  return a.x() * b.y() - a.y() * b.x();
 }
 
 Eigen::Vector2d row2(const Eigen::MatrixXd& M, int v) { return Eigen::Vector2d(M(v, 0), M(v, 1)); }
@@ -89,8 +74,7 @@ double area_3d(const Eigen::MatrixXd& X, const Eigen::MatrixXi& F, int f) {
 }
 
 double area_2d(const Eigen::MatrixXd& X, const Eigen::MatrixXi& F, int f) {
-  const Eigen::Vector2d a = row2(X, F(f, 0));
-  return 0.5 * std::abs(cross2(row2(X, F(f, 1)) - a, row2(X, F(f, 2)) - a));
+  return std::abs(triangle_signed_area(row2(X, F(f, 0)), row2(X, F(f, 1)), row2(X, F(f, 2))));
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -189,15 +173,6 @@ FaceGrid build_face_grid(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, dou
     }
   }
   return grid;
-}
-
-// The closest point of segment ab to p: its parameter t along ab and the distance.
-double segment_distance(const Eigen::Vector2d& p, const Eigen::Vector2d& a,
-                        const Eigen::Vector2d& b, double& t) {
-  const Eigen::Vector2d d = b - a;
-  const double length2 = d.squaredNorm();
-  t = length2 > 0.0 ? std::clamp((p - a).dot(d) / length2, 0.0, 1.0) : 0.0;
-  return (a + t * d - p).norm();
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -352,11 +327,7 @@ double clipped_area(const std::array<Eigen::Vector2d, 3>& triangle, double x0, d
   clip([&](const Eigen::Vector2d& p) { return x1 - p.x(); });
   clip([&](const Eigen::Vector2d& p) { return p.y() - y0; });
   clip([&](const Eigen::Vector2d& p) { return y1 - p.y(); });
-  double sum = 0.0;
-  for (size_t i = 0; i < polygon.size(); ++i) {
-    sum += cross2(polygon[i], polygon[(i + 1) % polygon.size()]);
-  }
-  return 0.5 * std::abs(sum);
+  return std::abs(signed_area(polygon));
 }
 
 // Area on the target surface of every square of side s that it touches.

@@ -12,6 +12,7 @@
 #include <string>
 
 #include "common/error.h"
+#include "mesh/plane_geometry.h"
 #include "mesh/polygon.h"
 #include "methods/origami/fold_simulation.h"
 
@@ -20,10 +21,6 @@ namespace {
 
 // Beyond this an actuator's L = 2 r tan(|θ|/2) outgrows any face (notes §4, degenerate cases).
 constexpr double kLargestFold = 170 * std::numbers::pi / 180;
-
-double cross2(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-  return a.x() * b.y() - a.y() * b.x();
-}
 
 Eigen::MatrixX2d face_corners(const CreasePattern& pattern, int f) {
   const std::vector<int>& face = pattern.faces[f];

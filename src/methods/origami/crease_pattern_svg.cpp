@@ -14,6 +14,8 @@
 
 #include "common/error.h"
 #include "common/svg_drawing.h"
+#include "mesh/plane_geometry.h"
+#include "mesh/polygon.h"
 
 namespace flatmorph {
 namespace {
@@ -26,32 +28,6 @@ constexpr double kMaxCoordinate = 1e6;  // mm, as the tile outlines
 
 std::string format_point(const Point& p) {
   return fmt::format("({:.4f}, {:.4f}) mm", p.x(), p.y());
-}
-
-double cross(const Point& a, const Point& b) { return a.x() * b.y() - a.y() * b.x(); }
-
-double twice_area(const std::vector<Point>& loop) {
-  double sum = 0;
-  for (size_t i = 0; i < loop.size(); ++i) sum += cross(loop[i], loop[(i + 1) % loop.size()]);
-  return sum;
-}
-
-bool inside(const std::vector<Point>& loop, const Point& p) {
-  bool in = false;
-  for (size_t i = 0, j = loop.size() - 1; i < loop.size(); j = i++) {
-    const Point &a = loop[i], &b = loop[j];
-    if ((a.y() > p.y()) != (b.y() > p.y()) &&
-        p.x() < (b.x() - a.x()) * (p.y() - a.y()) / (b.y() - a.y()) + a.x()) {
-      in = !in;
-    }
-  }
-  return in;
-}
-
-double distance_to_segment(const Point& p, const Point& a, const Point& b) {
-  const Point ab = b - a;
-  const double t = std::clamp((p - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
-  return (a + t * ab - p).norm();
 }
 
 int find_root(std::vector<int>& parent, int i) {
@@ -430,7 +406,7 @@ Arrangement arrange(const std::vector<Segment>& segments, double tolerance, size
             touch = true;
             continue;
           }
-          if (distance_to_segment(P[v], P[s.a], P[s.b]) <= tolerance) {
+          if (segment_distance(P[v], P[s.a], P[s.b]) <= tolerance) {
             pieces[self].on.push_back(v);
             t_junctions.try_emplace(v, s.a, s.b);
             touch = true;
@@ -439,9 +415,9 @@ Arrangement arrange(const std::vector<Segment>& segments, double tolerance, size
       }
       if (touch) continue;
       const Point r = pb - pa, s = qb - qa;
-      const double d = cross(r, s);
+      const double d = cross2(r, s);
       if (d == 0) continue;  // parallel and apart
-      const double t = cross(qa - pa, s) / d, u = cross(qa - pa, r) / d;
+      const double t = cross2(qa - pa, s) / d, u = cross2(qa - pa, r) / d;
       if (t > 0 && t < 1 && u > 0 && u < 1) {
         const int v = welder.vertex(pa + t * r);
         for (int k : {i, j}) {
@@ -491,7 +467,7 @@ Arrangement arrange(const std::vector<Segment>& segments, double tolerance, size
 struct Walks {
   std::vector<int> walk_of;             // per half-edge
   std::vector<std::vector<int>> walks;  // half-edges in order
-  std::vector<double> twice_area;       // > 0: a bounded region (a face); else an outer boundary
+  std::vector<double> area;             // mm², > 0: a bounded region (a face); else an outer walk
 };
 
 Walks walk(const Arrangement& arrangement) {
@@ -540,7 +516,7 @@ Walks walk(const Arrangement& arrangement) {
       loop.push_back(P[origin(g)]);
     }
     w.walks.push_back(std::move(halves));
-    w.twice_area.push_back(twice_area(loop));
+    w.area.push_back(signed_area(loop));
   }
   return w;
 }
@@ -592,13 +568,13 @@ class PatternBuilder {
 
   int origin(int h) const { return h % 2 == 0 ? a_.edges[h / 2].u : a_.edges[h / 2].v; }
 
-  bool is_face(int walk) const { return walks_.twice_area[walk] > 0; }
+  bool is_face(int walk) const { return walks_.area[walk] > 0; }
 
   // Whether `p` lies inside the bounded region walk `walk` goes around.
   bool in_face(int walk, const Point& p) const {
     const Bounds& b = bounds_[walk];
     return is_face(walk) && (p.array() >= b.lo.array()).all() &&
-           (p.array() <= b.hi.array()).all() && inside(loops_[walk], p);
+           (p.array() <= b.hi.array()).all() && point_in_polygon(loops_[walk], p);
   }
 
   // Lines drawn over each other must say the same.
@@ -834,7 +810,7 @@ class PatternBuilder {
     for (int f = 0; f < n; ++f) {
       std::vector<Point> loop;
       for (int v : pattern.faces[f]) loop.push_back(pattern.V.row(v).transpose());
-      area[f] = twice_area(loop);
+      area[f] = signed_area(loop);
     }
     pattern.root = static_cast<int>(std::max_element(area.begin(), area.end()) - area.begin());
     std::vector<std::vector<int>> creases_of(n);

@@ -4,13 +4,13 @@
 #include <fmt/ranges.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <map>
 #include <numbers>
 #include <stdexcept>
 
 #include "common/error.h"
+#include "common/stopwatch.h"
 #include "methods/origami/sheet_layout.h"
 #include "plate/actuator_stack.h"
 #include "plate/layer_stack.h"
@@ -21,10 +21,6 @@ namespace {
 
 // Between two beds laid side by side in plate coordinates, mm.
 constexpr double kBedSpacing = 20;
-
-double seconds_since(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
 
 // The curve the hinges fold by: the PLA's calibrated one, else the laminate's default for this
 // actuator.
@@ -190,7 +186,7 @@ std::string collision_warning(const OrigamiSheet& sheet) {
 
 void make_sheets(std::vector<OrigamiSheet> prepared, const OrigamiOptions& options,
                  OrigamiDesign& design) {
-  const auto start = std::chrono::steady_clock::now();
+  const auto start = Clock::now();
   std::vector<Eigen::AlignedBox2d> boxes;
   std::vector<std::string> names;
   for (OrigamiSheet& sheet : prepared) {
@@ -227,7 +223,7 @@ void make_sheets(std::vector<OrigamiSheet> prepared, const OrigamiOptions& optio
   }
   design.times.actuate = seconds_since(start);
 
-  const auto fold_start = std::chrono::steady_clock::now();
+  const auto fold_start = Clock::now();
   for (size_t i = 0; i < design.sheets.size(); ++i) {
     OrigamiSheet& sheet = design.sheets[i];
     report_progress(options.progress,
@@ -242,7 +238,7 @@ void make_sheets(std::vector<OrigamiSheet> prepared, const OrigamiOptions& optio
   }
   design.times.fold = seconds_since(fold_start);
 
-  const auto toolpath_start = std::chrono::steady_clock::now();
+  const auto toolpath_start = Clock::now();
   report_progress(options.progress, {"toolpath", 0, 0, NAN, "faces in PLA, actuators in PLA/TPU"});
   design.bed_toolpaths.assign(design.num_beds, Toolpath{});
   for (const OrigamiSheet& sheet : design.sheets) {
@@ -482,7 +478,7 @@ Polyhedron scaled_to_size(const Polyhedron& solid, double size) {
 }
 
 OrigamiDesign design_origami(const Polyhedron& solid, const OrigamiOptions& options) {
-  const auto start = std::chrono::steady_clock::now();
+  const auto start = Clock::now();
   OrigamiDesign design;
   design.curve = hinge_curve_of(options);
   report_progress(options.progress,
@@ -561,7 +557,7 @@ OrigamiDesign design_origami(const Polyhedron& solid, const OrigamiOptions& opti
 OrigamiDesign with_hinges_widened(const OrigamiDesign& design,
                                   const std::vector<std::vector<double>>& width_scale,
                                   const OrigamiOptions& options) {
-  const auto start = std::chrono::steady_clock::now();
+  const auto start = Clock::now();
   if (width_scale.size() != design.sheets.size()) {
     throw std::invalid_argument("with_hinges_widened: one list of scales per sheet");
   }
@@ -604,7 +600,7 @@ OrigamiDesign with_hinges_widened(const OrigamiDesign& design,
 }
 
 OrigamiDesign design_origami_pattern(const CreasePattern& pattern, const OrigamiOptions& options) {
-  const auto start = std::chrono::steady_clock::now();
+  const auto start = Clock::now();
   OrigamiDesign design;
   design.curve = hinge_curve_of(options);
   std::vector<OrigamiSheet> prepared;

@@ -9,6 +9,7 @@
 #include <numbers>
 #include <stdexcept>
 
+#include "mesh/plane_geometry.h"
 #include "mesh/polygon.h"
 
 namespace flatmorph {
@@ -159,26 +160,6 @@ std::optional<Eigen::Matrix3d> shrunk(const Eigen::Matrix3d& t, double by) {
   return ((t.rowwise() - centre) * keep).rowwise() + centre;
 }
 
-double cross2(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-  return a.x() * b.y() - a.y() * b.x();
-}
-
-// Closed segments pq and rs of the plane meet.
-bool segments_meet(const Eigen::Vector2d& p, const Eigen::Vector2d& q, const Eigen::Vector2d& r,
-                   const Eigen::Vector2d& s) {
-  const double d1 = cross2(q - p, r - p), d2 = cross2(q - p, s - p);
-  const double d3 = cross2(s - r, p - r), d4 = cross2(s - r, q - r);
-  if (((d1 > 0 && d2 < 0) || (d1 < 0 && d2 > 0)) && ((d3 > 0 && d4 < 0) || (d3 < 0 && d4 > 0))) {
-    return true;
-  }
-  const auto on = [](const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& x,
-                     double d) {
-    return d == 0 && x.x() >= std::min(a.x(), b.x()) && x.x() <= std::max(a.x(), b.x()) &&
-           x.y() >= std::min(a.y(), b.y()) && x.y() <= std::max(a.y(), b.y());
-  };
-  return on(p, q, r, d1) || on(p, q, s, d2) || on(r, s, p, d3) || on(r, s, q, d4);
-}
-
 bool inside_triangle(const Eigen::Matrix<double, 3, 2>& t, const Eigen::Vector2d& x) {
   double sign[3];
   for (int k = 0; k < 3; ++k) {
@@ -200,8 +181,9 @@ bool coplanar_meet(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b, const Eig
   b2 << b.col(x), b.col(y);
   for (int i = 0; i < 3; ++i) {
     for (int j = 0; j < 3; ++j) {
-      if (segments_meet(a2.row(i).transpose(), a2.row((i + 1) % 3).transpose(),
-                        b2.row(j).transpose(), b2.row((j + 1) % 3).transpose())) {
+      if (segment_intersection(a2.row(i).transpose(), a2.row((i + 1) % 3).transpose(),
+                               b2.row(j).transpose(), b2.row((j + 1) % 3).transpose())
+              .has_value()) {
         return true;
       }
     }

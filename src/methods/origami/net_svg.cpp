@@ -12,6 +12,7 @@
 
 #include "common/markup.h"
 #include "mesh/clipper_path.h"
+#include "mesh/plane_geometry.h"
 #include "mesh/polygon.h"
 
 namespace flatmorph {
@@ -92,14 +93,8 @@ double signed_distance(const Eigen::MatrixX2d& polygon, const Eigen::Vector2d& p
   const Eigen::Index n = polygon.rows();
   for (Eigen::Index i = 0, j = n - 1; i < n; j = i++) {
     const Eigen::Vector2d a = polygon.row(i).transpose(), b = polygon.row(j).transpose();
-    if ((a.y() > p.y()) != (b.y() > p.y()) &&
-        p.x() < (b.x() - a.x()) * (p.y() - a.y()) / (b.y() - a.y()) + a.x()) {
-      inside = !inside;
-    }
-    const Eigen::Vector2d ab = b - a;
-    const double t =
-        ab.squaredNorm() > 0 ? std::clamp((p - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0) : 0.0;
-    best = std::min(best, (a + t * ab - p).norm());
+    if (side_crosses_ray(p, a, b)) inside = !inside;
+    best = std::min(best, segment_distance(p, a, b));
   }
   return inside ? best : -best;
 }

@@ -72,16 +72,8 @@ std::vector<Line> hatch(const cl::Paths& area, const Eigen::Vector2d& dir, doubl
     Eigen::MatrixX2d ends(2, 2);
     ends.row(0) = (c + (along_lo - 1) * dir).transpose();
     ends.row(1) = (c + (along_hi + 1) * dir).transpose();
-    cl::Clipper clipper;
-    clipper.AddPath(to_clipper_path(ends, kScale), cl::ptSubject, false);
-    clipper.AddPaths(inner, cl::ptClip, true);
-    cl::PolyTree tree;
-    clipper.Execute(cl::ctIntersection, tree, cl::pftNonZero, cl::pftNonZero);
-    cl::Paths pieces;
-    cl::OpenPathsFromPolyTree(tree, pieces);
     std::vector<Eigen::MatrixX2d> row;
-    for (const cl::Path& piece : pieces) {
-      if (piece.size() < 2) continue;
+    for (const cl::Path& piece : clip_open_path(to_clipper_path(ends, kScale), inner)) {
       Eigen::MatrixX2d p = from_clipper_path(piece, kScale);
       if ((p.row(p.rows() - 1) - p.row(0)).dot(dir.transpose()) < 0)
         p = p.colwise().reverse().eval();

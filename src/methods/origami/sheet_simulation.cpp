@@ -8,7 +8,7 @@
 #include <stdexcept>
 
 #include "common/error.h"
-#include "methods/tiles/sheet_mesh.h"
+#include "mesh/sheet_mesh.h"
 #include "plate/laminate.h"
 
 namespace flatmorph {
@@ -69,7 +69,7 @@ SheetSimulation simulate_sheet(const OrigamiDesign& design, int index,
   const OrigamiSheet& sheet = design.sheets.at(index);
   const ActuatedSheet& printed = sheet.sheet;
   const int num_faces = static_cast<int>(printed.faces.size());
-  std::vector<TileOutline> regions;
+  std::vector<PlaneRegion> regions;
   for (int f = 0; f < num_faces; ++f) {
     regions.push_back({printed.faces[f], {}, "face " + std::to_string(f + 1)});
   }

@@ -9,13 +9,13 @@
 #include <Eigen/Geometry>
 #include <chrono>
 #include <cmath>
-#include <fstream>
 #include <numbers>
 #include <regex>
 #include <sstream>
 #include <thread>
 #include <vector>
 
+#include "common/file_text.h"
 #include "mesh/io.h"
 
 extern char** environ;
@@ -182,10 +182,7 @@ std::optional<SolidPrintEstimate> slicer_solid_print(const Polyhedron& solid,
                      fmt::format("{}", filament_diameter), "--output",
                      (dir / "solid.gcode").string(), (dir / "solid.obj").string()},
                     timeout_s, reason)) {
-      std::ifstream in(dir / "solid.gcode");
-      std::stringstream text;
-      text << in.rdbuf();
-      out = read_slicer_estimate(text.str());
+      out = read_slicer_estimate(read_file_text(dir / "solid.gcode", "slicer's G-code"));
       if (out) {
         out->volume = polyhedron_volume(solid);
         out->printed =

@@ -5,19 +5,16 @@
 #include <Eigen/Cholesky>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 
 #include "common/error.h"
+#include "common/file_text.h"
+#include "common/stopwatch.h"
 #include "mesh/polygon.h"
 #include "plate/laminate.h"
 
 namespace flatmorph {
 namespace {
-
-double seconds_since(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
 
 // Every boundary point within 0.5 % of R from the boundary's centroid: the rings are circles.
 bool is_circle(const TileOutline& outline) {
@@ -409,7 +406,7 @@ Eigen::VectorXd optimized_level_shrinkage(const TilesDesign& design,
 }  // namespace
 
 TilesDesign design_tiles(const TileLayout& layout, const TilesDesignOptions& options) {
-  const auto start = std::chrono::steady_clock::now();
+  const auto start = Clock::now();
   const double pitch = options.levels.pitch;
   const ProgressCallback& progress = options.progress;
   TilesDesign design;
@@ -419,7 +416,7 @@ TilesDesign design_tiles(const TileLayout& layout, const TilesDesignOptions& opt
   }
 
   report_progress(progress, {"rings", 0, 0, NAN, "offsets, profiles and layer heights"});
-  auto t0 = std::chrono::steady_clock::now();
+  auto t0 = Clock::now();
   std::vector<TileOutline> outlines;
   for (size_t i = 0; i < layout.tiles.size(); ++i) {
     const TileSpec& spec = layout.tiles[i];
@@ -432,8 +429,8 @@ TilesDesign design_tiles(const TileLayout& layout, const TilesDesignOptions& opt
     for (const Ring& ring : tile.rings.rings) num_levels = std::max(num_levels, ring.level + 1);
     if (!spec.profile_csv.empty()) {
       // A drawn profile keeps its shape: scaled as a whole to the tile's radius.
-      tile.profile = scale_profile_to_length(
-          read_profile_csv(read_layout_file(spec.profile_csv), spec.profile_csv.string()), R);
+      const std::string csv = read_file_text(spec.profile_csv, "profile CSV");
+      tile.profile = scale_profile_to_length(read_profile_csv(csv, spec.profile_csv.string()), R);
     } else {
       tile.profile = tile_profile(spec.profile, R, spec.height_mm);
     }
@@ -450,7 +447,7 @@ TilesDesign design_tiles(const TileLayout& layout, const TilesDesignOptions& opt
   design.times.rings = seconds_since(t0);
 
   report_progress(progress, {"mesh", 0, 0, NAN, "the sheet for the simulator"});
-  t0 = std::chrono::steady_clock::now();
+  t0 = Clock::now();
   // The lattice's material prints with a second tool when it is another material.
   const bool second_tool = options.lattice_material.name != options.material.name;
   std::vector<TileOutline> regions = outlines;
@@ -491,7 +488,7 @@ TilesDesign design_tiles(const TileLayout& layout, const TilesDesignOptions& opt
   };
   if (options.simulate) {
     report_progress(progress, {"simulate", 0, 0, NAN, "the printed sheet in hot water"});
-    t0 = std::chrono::steady_clock::now();
+    t0 = Clock::now();
     design.simulation = simulate_sheet(levels);
     design.simulated = true;
     for (size_t i = 0; i < design.tiles.size(); ++i) {
@@ -504,7 +501,7 @@ TilesDesign design_tiles(const TileLayout& layout, const TilesDesignOptions& opt
     TileResult& only = design.tiles[0];
     if (options.optimize && design.tiles.size() == 1 && !only.circular && !layout.has_lattice &&
         design.simulation.converged) {
-      t0 = std::chrono::steady_clock::now();
+      t0 = Clock::now();
       const Eigen::VectorXd shrinkage = optimized_level_shrinkage(design, outlines, options);
       TileResult optimized = only;
       set_level_shrinkage(optimized.levels, shrinkage, options.material, options.levels);
@@ -526,7 +523,7 @@ TilesDesign design_tiles(const TileLayout& layout, const TilesDesignOptions& opt
   }
 
   report_progress(progress, {"paths", 0, 0, NAN, "one continuous path per tile and pass"});
-  t0 = std::chrono::steady_clock::now();
+  t0 = Clock::now();
   TilePassOptions pass_options;
   pass_options.pitch = pitch;
   pass_options.feed_rate = options.feed_rate;

@@ -11,7 +11,7 @@
 
 #include "common/progress.h"
 #include "material/material.h"
-#include "methods/tiles/sheet_mesh.h"
+#include "mesh/sheet_mesh.h"
 #include "methods/tiles/tile_lattice.h"
 #include "methods/tiles/tile_layout.h"
 #include "methods/tiles/tile_levels.h"

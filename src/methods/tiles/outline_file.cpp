@@ -4,10 +4,10 @@
 
 #include <algorithm>
 #include <cctype>
-#include <fstream>
-#include <system_error>
+#include <cstdint>
 
 #include "common/error.h"
+#include "common/file_text.h"
 #include "methods/tiles/dxf_outlines.h"
 #include "methods/tiles/svg_outlines.h"
 
@@ -28,32 +28,9 @@ std::vector<TileOutline> read_tile_outlines(const std::filesystem::path& path,
                     source, extension.empty() ? "a file without extension" : "'" + extension + "'",
                     extension == ".svgz" ? " (plain, not compressed)" : ""));
   }
-  std::error_code error;
-  // A folder opens as a stream on Linux, with a nonsense size.
-  if (std::filesystem::is_directory(path, error)) {
-    throw UserError(ErrorCategory::kFile,
-                    fmt::format("{}: a folder, not a file: give the path of the drawing", source));
-  }
-  std::ifstream in(path, std::ios::binary | std::ios::ate);
-  if (!in) {
-    throw UserError(
-        ErrorCategory::kFile,
-        fmt::format("{}: cannot open the file: check the path and its permissions", source));
-  }
-  const std::streamoff size = in.tellg();
-  if (size < 0) {
-    throw UserError(
-        ErrorCategory::kFile,
-        fmt::format("{}: cannot read the file: check that it is a regular file", source));
-  }
-  outline_loops::check_size(static_cast<size_t>(size), options, source);
-  std::string text(static_cast<size_t>(size), '\0');
-  in.seekg(0);
-  if (!in.read(text.data(), static_cast<std::streamsize>(text.size()))) {
-    throw UserError(
-        ErrorCategory::kFile,
-        fmt::format("{}: cannot read the file: check that it is a regular file", source));
-  }
+  const std::string text = read_file_text(path, "file", [&](std::uintmax_t size) {
+    outline_loops::check_size(static_cast<size_t>(size), options, source);
+  });
   if (extension == ".dxf") return read_dxf_outlines(text, source, options, warnings);
   return read_svg_outlines(text, source, options, warnings);
 }

@@ -13,6 +13,7 @@
 #include <tuple>
 
 #include "common/error.h"
+#include "mesh/plane_geometry.h"
 
 namespace flatmorph {
 namespace outline_loops {
@@ -27,8 +28,6 @@ constexpr double kMaxWork = 2e7;
 // Cell entries of the crossing grid (8 bytes each), and pairs of loops that touch.
 constexpr double kMaxGridEntries = 2e7;
 constexpr double kMaxTouchingPairs = 1e5;
-
-double cross(const Point& a, const Point& b) { return a.x() * b.y() - a.y() * b.x(); }
 
 struct Work {
   double used = 0;
@@ -49,7 +48,7 @@ struct Work {
 // Twice the signed area, measured from the first point so that far-off loops keep their digits.
 double twice_area(const std::vector<Point>& p) {
   double sum = 0;
-  for (size_t i = 1; i + 1 < p.size(); ++i) sum += cross(p[i] - p[0], p[i + 1] - p[0]);
+  for (size_t i = 1; i + 1 < p.size(); ++i) sum += cross2(p[i] - p[0], p[i + 1] - p[0]);
   return sum;
 }
 
@@ -106,12 +105,6 @@ struct LoopRef {
   const Origin* origin;
 };
 
-double distance_to_segment(const Point& p, const Point& a, const Point& b) {
-  const Point ab = b - a;
-  const double t = std::clamp((p - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
-  return (a + t * ab - p).norm();
-}
-
 enum class Side { kInside, kOutside, kOn };
 
 Side side_of(const Point& p, const std::vector<Point>& loop, double eps, Work& work) {
@@ -123,14 +116,11 @@ Side side_of(const Point& p, const std::vector<Point>& loop, double eps, Work& w
     // Only an edge whose box, widened by eps, holds p can be within eps of it.
     if (p.y() >= std::min(a.y(), b.y()) - eps && p.y() <= std::max(a.y(), b.y()) + eps &&
         p.x() >= std::min(a.x(), b.x()) - eps && p.x() <= std::max(a.x(), b.x()) + eps &&
-        distance_to_segment(p, a, b) <= eps) {
+        segment_distance(p, a, b) <= eps) {
       return Side::kOn;
     }
     // Even-odd count of the edges a ray towards +x crosses.
-    if ((a.y() > p.y()) != (b.y() > p.y()) &&
-        p.x() < a.x() + (p.y() - a.y()) * (b.x() - a.x()) / (b.y() - a.y())) {
-      inside = !inside;
-    }
+    if (side_crosses_ray(p, a, b)) inside = !inside;
   }
   return inside ? Side::kInside : Side::kOutside;
 }
@@ -146,12 +136,12 @@ Meeting meeting(const Point& a, const Point& b, const Point& c, const Point& d, 
                 Point& at, unsigned& ends) {
   const Point ab = b - a, cd = d - c;
   const double lab = ab.norm();
-  const double dc = cross(ab, c - a) / lab, dd = cross(ab, d - a) / lab;
+  const double dc = cross2(ab, c - a) / lab, dd = cross2(ab, d - a) / lab;
   // Both ends of one segment farther than eps on one side of the other's line: apart. Most pairs
   // sharing a grid cell end here.
   if ((dc > eps && dd > eps) || (dc < -eps && dd < -eps)) return Meeting::kApart;
   const double lcd = cd.norm();
-  const double da = cross(cd, a - c) / lcd, db = cross(cd, b - c) / lcd;
+  const double da = cross2(cd, a - c) / lcd, db = cross2(cd, b - c) / lcd;
   if ((da > eps && db > eps) || (da < -eps && db < -eps)) return Meeting::kApart;
   if (((dc > eps && dd < -eps) || (dc < -eps && dd > eps)) &&
       ((da > eps && db < -eps) || (da < -eps && db > eps))) {
@@ -162,7 +152,7 @@ Meeting meeting(const Point& a, const Point& b, const Point& c, const Point& d, 
   const Point* end_points[4] = {&a, &b, &c, &d};
   for (unsigned k = 0; k < 4; ++k) {
     const Point& p = *end_points[k];
-    const double distance = k < 2 ? distance_to_segment(p, c, d) : distance_to_segment(p, a, b);
+    const double distance = k < 2 ? segment_distance(p, c, d) : segment_distance(p, a, b);
     if (distance <= eps) {
       if (ends == 0) at = p;
       ends |= 1u << k;

@@ -110,17 +110,9 @@ TileLattice tile_lattice(const std::vector<TileOutline>& tiles, const LatticeSpe
       } else {
         line = {{at, min_y}, {at, max_y}};
       }
-      cl::Clipper clipper;
-      clipper.AddPath(line, cl::ptSubject, false);
-      clipper.AddPaths(area, cl::ptClip, true);
-      cl::PolyTree tree;
-      clipper.Execute(cl::ctIntersection, tree, cl::pftNonZero, cl::pftNonZero);
-      cl::Paths pieces;
-      cl::OpenPathsFromPolyTree(tree, pieces);
       // Along the line, in a serpentine order: every other line runs back.
       std::vector<Eigen::MatrixX2d> segments;
-      for (const cl::Path& piece : pieces) {
-        if (piece.size() < 2) continue;
+      for (const cl::Path& piece : clip_open_path(line, area)) {
         Eigen::MatrixX2d points = from_clipper_path(piece, kScale);
         const int axis = along_x ? 0 : 1;
         if (points(0, axis) > points(points.rows() - 1, axis))

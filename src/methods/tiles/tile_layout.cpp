@@ -4,12 +4,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <nlohmann/json.hpp>
 #include <numbers>
-#include <sstream>
 
 #include "common/error.h"
+#include "common/file_text.h"
 #include "methods/tiles/outline_file.h"
 
 namespace flatmorph {
@@ -235,7 +234,7 @@ TileLayout load_tile_layout(const std::filesystem::path& path, const TileSpec& d
   std::transform(ext.begin(), ext.end(), ext.begin(),
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   if (ext == ".json") {
-    return read_tile_layout(read_layout_file(path), path.string(), path.parent_path());
+    return read_tile_layout(read_file_text(path, "layout"), path.string(), path.parent_path());
   }
   TileLayout layout;
   layout.source = path.string();
@@ -251,17 +250,6 @@ TileLayout load_tile_layout(const std::filesystem::path& path, const TileSpec& d
                                 path.string()));
   }
   return layout;
-}
-
-std::string read_layout_file(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    throw UserError(ErrorCategory::kFile,
-                    fmt::format("{}: cannot open the file: check the path", path.string()));
-  }
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
 }
 
 }  // namespace flatmorph

@@ -59,9 +59,6 @@ TileLayout read_tile_layout(std::string_view json_text, const std::string& sourc
 // a tile with `defaults` (its outline replaced).
 TileLayout load_tile_layout(const std::filesystem::path& path, const TileSpec& defaults);
 
-// The whole text of a file a layout names (a layout, a profile CSV). Throws UserError (kFile)
-// naming the file when it cannot be opened.
-std::string read_layout_file(const std::filesystem::path& path);
 
 // A circle of `radius` (mm) around `center` as a polygon whose chords stray at most
 // `chord_tolerance` mm from it (at least 24 sides), counter-clockwise.

@@ -10,8 +10,9 @@
 #include <vector>
 
 #include "material/material.h"
-#include "methods/tiles/sheet_mesh.h"
+#include "mesh/sheet_mesh.h"
 #include "methods/tiles/tile_levels.h"
+#include "methods/tiles/tile_outline.h"
 #include "plate/plate_design.h"
 
 namespace flatmorph {

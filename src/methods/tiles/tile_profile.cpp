@@ -12,6 +12,7 @@
 #include <stdexcept>
 
 #include "common/error.h"
+#include "mesh/plane_geometry.h"
 
 namespace flatmorph {
 namespace {
@@ -144,9 +145,7 @@ double chord_error(const Shape& shape, double p, int segments) {
   for (int i = 1; i <= segments; ++i) {
     const Eigen::Vector2d b = shape.point(p, static_cast<double>(i) / segments);
     const Eigen::Vector2d mid = shape.point(p, (i - 0.5) / segments);
-    const Eigen::Vector2d d = b - a;
-    const double t = std::clamp((mid - a).dot(d) / d.squaredNorm(), 0.0, 1.0);
-    worst = std::max(worst, (a + t * d - mid).norm());
+    worst = std::max(worst, segment_distance(mid, a, b));
     a = b;
   }
   return worst;

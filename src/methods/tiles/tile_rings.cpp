@@ -14,6 +14,8 @@
 
 #include "common/error.h"
 #include "mesh/clipper_path.h"
+#include "mesh/plane_geometry.h"
+#include "mesh/polygon.h"
 
 namespace flatmorph {
 namespace {
@@ -25,15 +27,6 @@ constexpr int kMaxLevels = 200000;
 constexpr double kBisectionTolerance = 1e-3;  // mm: locates the deepest region for max_depth
 
 Point row(const Eigen::MatrixX2d& loop, Eigen::Index i) { return loop.row(i).transpose(); }
-
-double cross(const Point& a, const Point& b) { return a.x() * b.y() - a.y() * b.x(); }
-
-double signed_area(const Eigen::MatrixX2d& loop) {
-  double twice = 0;
-  const Eigen::Index n = loop.rows();
-  for (Eigen::Index i = 0; i < n; ++i) twice += cross(row(loop, i), row(loop, (i + 1) % n));
-  return twice / 2;
-}
 
 double loop_length(const Eigen::MatrixX2d& loop) {
   double length = 0;
@@ -56,18 +49,11 @@ bool inside_loop(const Eigen::MatrixX2d& loop, const Point& p) {
   return inside;
 }
 
-double distance_to_segment(const Point& p, const Point& a, const Point& b) {
-  const Point ab = b - a;
-  const double length2 = ab.squaredNorm();
-  const double t = length2 > 0 ? std::clamp((p - a).dot(ab) / length2, 0.0, 1.0) : 0.0;
-  return (a + t * ab - p).norm();
-}
-
 double distance_to_loop(const Eigen::MatrixX2d& loop, const Point& p) {
   double best = std::numeric_limits<double>::infinity();
   const Eigen::Index n = loop.rows();
   for (Eigen::Index i = 0; i < n; ++i) {
-    best = std::min(best, distance_to_segment(p, row(loop, i), row(loop, (i + 1) % n)));
+    best = std::min(best, segment_distance(p, row(loop, i), row(loop, (i + 1) % n)));
   }
   return best;
 }
@@ -205,28 +191,6 @@ Eigen::MatrixX2d checked_loop(const TileOutline& outline, const Eigen::MatrixX2d
   return (area > 0) == outer ? loop : reversed(loop);
 }
 
-double orientation(const Point& a, const Point& b, const Point& c) { return cross(b - a, c - a); }
-
-// c lies on the line through a, b: is it within the segment?
-bool within(const Point& a, const Point& b, const Point& c) {
-  return std::min(a.x(), b.x()) <= c.x() && c.x() <= std::max(a.x(), b.x()) &&
-         std::min(a.y(), b.y()) <= c.y() && c.y() <= std::max(a.y(), b.y());
-}
-
-// Where segments ab and cd cross or touch, if they do.
-std::optional<Point> meeting_point(const Point& a, const Point& b, const Point& c, const Point& d) {
-  const double d1 = orientation(a, b, c), d2 = orientation(a, b, d);
-  const double d3 = orientation(c, d, a), d4 = orientation(c, d, b);
-  if (((d1 > 0 && d2 < 0) || (d1 < 0 && d2 > 0)) && ((d3 > 0 && d4 < 0) || (d3 < 0 && d4 > 0))) {
-    return Point(a + d3 / (d3 - d4) * (b - a));
-  }
-  if (d1 == 0 && within(a, b, c)) return c;
-  if (d2 == 0 && within(a, b, d)) return d;
-  if (d3 == 0 && within(c, d, a)) return a;
-  if (d4 == 0 && within(c, d, b)) return b;
-  return std::nullopt;
-}
-
 struct Edge {
   int loop;
   Eigen::Index index;
@@ -269,13 +233,13 @@ void check_no_crossings(const TileOutline& outline, const std::vector<Eigen::Mat
           const Edge& first = e_then_f ? e : f;
           const Edge& second = e_then_f ? f : e;
           const Point u = first.b - first.a, v = second.b - second.a;
-          if (cross(u, v) == 0 && u.dot(v) < 0) {
+          if (cross2(u, v) == 0 && u.dot(v) < 0) {
             refuse_geometry(outline, where(first.b) + "; the outline folds back on itself there");
           }
           continue;
         }
       }
-      if (const std::optional<Point> p = meeting_point(e.a, e.b, f.a, f.b)) {
+      if (const std::optional<Point> p = segment_intersection(e.a, e.b, f.a, f.b)) {
         refuse_geometry(outline,
                         where(*p) + "; fix the drawing so that edges meet only at their ends");
       }
@@ -337,7 +301,7 @@ Eigen::MatrixX2d simplified(const Eigen::MatrixX2d& loop, double tolerance) {
     double worst = -1;
     Eigen::Index worst_at = -1;
     for (Eigen::Index i = first + 1; i < last; ++i) {
-      const double distance = distance_to_segment(row(loop, i), a, b);
+      const double distance = segment_distance(row(loop, i), a, b);
       if (distance > worst) {
         worst = distance;
         worst_at = i;

@@ -1,4 +1,4 @@
-#include "methods/tiles/sheet_mesh.h"
+#include "mesh/sheet_mesh.h"
 
 #include <CGAL/Constrained_Delaunay_triangulation_2.h>
 #include <CGAL/Delaunay_mesh_face_base_2.h>
@@ -25,6 +25,8 @@
 #include <vector>
 
 #include "common/error.h"
+#include "mesh/plane_geometry.h"
+#include "mesh/polygon.h"
 
 namespace flatmorph {
 namespace {
@@ -62,14 +64,14 @@ struct Outlines {
   std::vector<std::vector<Loop>> loops;  // per region: boundary, then holes
 };
 
-std::string sheet_name(const std::vector<TileOutline>& regions) {
+std::string sheet_name(const std::vector<PlaneRegion>& regions) {
   const std::string count =
       fmt::format("the sheet of {} region{}", regions.size(), regions.size() == 1 ? "" : "s");
   if (regions[0].source.empty()) return count;
   return fmt::format("{} ({}{})", count, regions[0].source, regions.size() > 1 ? ", ..." : "");
 }
 
-std::string describe(const TileOutline& region, size_t index) {
+std::string describe(const PlaneRegion& region, size_t index) {
   return region.source.empty() ? fmt::format("region {}", index)
                                : fmt::format("region {} ({})", index, region.source);
 }
@@ -89,14 +91,12 @@ void check_loop(const Eigen::MatrixX2d& loop, const std::string& who, const char
   }
 }
 
-double signed_area(const std::vector<Eigen::Vector2d>& points, const Loop& loop) {
-  double twice = 0;
-  for (size_t i = 0; i < loop.size(); ++i) {
-    const Eigen::Vector2d& a = points[loop[i]];
-    const Eigen::Vector2d& b = points[loop[(i + 1) % loop.size()]];
-    twice += a.x() * b.y() - a.y() * b.x();
-  }
-  return twice / 2;
+// The signed area of a loop of the outlines, mm².
+double loop_area(const std::vector<Eigen::Vector2d>& points, const Loop& loop) {
+  std::vector<Eigen::Vector2d> corners;
+  corners.reserve(loop.size());
+  for (int i : loop) corners.push_back(points[i]);
+  return signed_area(corners);
 }
 
 // Merges points closer than kSnap (the first one met is kept), so that outlines given twice along
@@ -131,11 +131,11 @@ class PointMerger {
 // The regions' loops on merged points, with every outline point that lies on another loop's
 // segment inserted into that segment (T-junctions of tiles joined edge to edge), and every
 // segment then split evenly to at most max_edge, the same way from both sides.
-Outlines build_outlines(const std::vector<TileOutline>& regions, double max_edge) {
+Outlines build_outlines(const std::vector<PlaneRegion>& regions, double max_edge) {
   Outlines out;
   PointMerger merger(out.points);
   for (size_t r = 0; r < regions.size(); ++r) {
-    const TileOutline& region = regions[r];
+    const PlaneRegion& region = regions[r];
     check_loop(region.boundary, describe(region, r), "boundary");
     for (const Eigen::MatrixX2d& hole : region.holes) check_loop(hole, describe(region, r), "hole");
     std::vector<Loop>& loops = out.loops.emplace_back();
@@ -151,7 +151,7 @@ Outlines build_outlines(const std::vector<TileOutline>& regions, double max_edge
     add_loop(region.boundary);
     for (const Eigen::MatrixX2d& hole : region.holes) add_loop(hole);
     for (size_t k = 0; k < loops.size(); ++k) {
-      const double area = loops[k].size() < 3 ? 0 : signed_area(out.points, loops[k]);
+      const double area = loops[k].size() < 3 ? 0 : loop_area(out.points, loops[k]);
       if (std::abs(area) <= kSnap * kSnap) {
         throw UserError(ErrorCategory::kGeometry,
                         fmt::format("{}: its {} encloses no area (its points coincide within {} "
@@ -238,10 +238,7 @@ bool inside_region(const Outlines& outlines, size_t region, const Eigen::Vector2
     for (size_t i = 0, j = loop.size() - 1; i < loop.size(); j = i++) {
       const Eigen::Vector2d& a = outlines.points[loop[i]];
       const Eigen::Vector2d& b = outlines.points[loop[j]];
-      if ((a.y() > p.y()) != (b.y() > p.y()) &&
-          p.x() < a.x() + (p.y() - a.y()) * (b.x() - a.x()) / (b.y() - a.y())) {
-        inside = !inside;
-      }
+      if (side_crosses_ray(p, a, b)) inside = !inside;
     }
   }
   return inside;
@@ -256,10 +253,8 @@ Eigen::Vector2d centroid(Cdt::Face_handle f) {
 }
 
 double area(Cdt::Face_handle f) {
-  const Eigen::Vector2d a = to_eigen(f->vertex(0)->point());
-  const Eigen::Vector2d ab = to_eigen(f->vertex(1)->point()) - a;
-  const Eigen::Vector2d ac = to_eigen(f->vertex(2)->point()) - a;
-  return (ab.x() * ac.y() - ab.y() * ac.x()) / 2;
+  return triangle_signed_area(to_eigen(f->vertex(0)->point()), to_eigen(f->vertex(1)->point()),
+                              to_eigen(f->vertex(2)->point()));
 }
 
 struct Component {
@@ -306,10 +301,9 @@ std::vector<Component> components(Cdt& cdt, bool in_domain_only) {
 
 }  // namespace
 
-SheetMesh sheet_mesh(const std::vector<TileOutline>& regions, const SheetMeshOptions& options) {
+SheetMesh sheet_mesh(const std::vector<PlaneRegion>& regions, const SheetMeshOptions& options) {
   if (regions.empty()) {
-    throw UserError(ErrorCategory::kGeometry,
-                    "sheet mesh: no tile outlines given; give at least one");
+    throw UserError(ErrorCategory::kGeometry, "sheet mesh: no outlines given; give at least one");
   }
   const std::string name = sheet_name(regions);
   if (!(options.max_edge > 0) || !std::isfinite(options.max_edge)) {
@@ -336,7 +330,7 @@ SheetMesh sheet_mesh(const std::vector<TileOutline>& regions, const SheetMeshOpt
   double total_area = 0;
   for (const std::vector<Loop>& loops : outlines.loops) {
     double region_area = 0;
-    for (const Loop& loop : loops) region_area += signed_area(outlines.points, loop);
+    for (const Loop& loop : loops) region_area += loop_area(outlines.points, loop);
     total_area += std::abs(region_area);
   }
   const double h = options.max_edge;
@@ -477,7 +471,7 @@ SheetMesh sheet_mesh(const std::vector<TileOutline>& regions, const SheetMeshOpt
   return mesh;
 }
 
-RingFrame ring_frame(const TileOutline& outline, const Eigen::MatrixX2d& points) {
+RingFrame ring_frame(const PlaneRegion& outline, const Eigen::MatrixX2d& points) {
   struct Segment {
     Eigen::Vector2d a, b;
     double min_x, max_x, min_y, max_y;

@@ -1,14 +1,15 @@
-// The triangle mesh of a sheet of Geodesy tiles for the plate simulator (src/simulate), which
-// replaces the paper's ring-spring model (CHI 2019 §7; note geodesy-tiles.md §7.2): quality
-// triangles that conform to every tile outline, each labelled with the region it lies in, and the
-// ring frame (depth below the outline, ring tangent) at any points, which becomes the layers'
-// shrink and material angle. Millimetres and radians.
+// The triangle mesh of a sheet of regions for the plate simulator (src/simulate): Geodesy tiles and
+// their lattice, where it replaces the paper's ring-spring model (CHI 2019 §7; note
+// geodesy-tiles.md §7.2), or an origami sheet's faces and actuators. Quality triangles that conform
+// to every region's outline, each labelled with the region it lies in; and the ring frame (depth
+// below the outline, ring tangent) at any points, which becomes a tile's layers' shrink and
+// material angle. Millimetres and radians. The only file compiled with CGAL's flags.
 #pragma once
 
 #include <Eigen/Core>
 #include <vector>
 
-#include "methods/tiles/tile_outline.h"
+#include "mesh/plane_region.h"
 
 namespace flatmorph {
 
@@ -29,11 +30,12 @@ struct SheetMesh {
   Eigen::VectorXi face_region;  // #F: index into the regions given
 };
 
-// Meshes the union of `regions` (each a tile, or a lattice with the tiles cut out as holes).
+// Meshes the union of `regions` (tiles and a lattice with the tiles cut out as holes, an origami
+// sheet's faces and actuators).
 // Regions may share edges, with different vertices along them (both sides are split alike so the
 // mesh is one piece there), and may nest inside other regions' holes; they must not overlap in
 // area (UserError kGeometry naming where). Holes not filled by another region stay empty.
-SheetMesh sheet_mesh(const std::vector<TileOutline>& regions, const SheetMeshOptions& options);
+SheetMesh sheet_mesh(const std::vector<PlaneRegion>& regions, const SheetMeshOptions& options);
 
 struct RingFrame {
   // mm: distance to the nearest point of the outline (boundary and holes); ring m of the tile lies
@@ -45,8 +47,8 @@ struct RingFrame {
   Eigen::VectorXd direction;
 };
 
-// The ring frame of one tile at each row of `points` (#P x 2, mm). Exact distance to the outline's
-// segments; points outside the tile get their (unsigned) distance too.
-RingFrame ring_frame(const TileOutline& outline, const Eigen::MatrixX2d& points);
+// The ring frame of one region (a tile) at each row of `points` (#P x 2, mm). Exact distance to the
+// outline's segments; points outside the region get their (unsigned) distance too.
+RingFrame ring_frame(const PlaneRegion& outline, const Eigen::MatrixX2d& points);
 
 }  // namespace flatmorph

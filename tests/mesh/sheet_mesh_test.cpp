@@ -1,7 +1,7 @@
 // The sheet mesh against closed forms (a disc's area, a square's and a lattice's union), its
 // invariants (quality, orientation, Euler characteristic, one piece across joined tiles, rotation),
 // refusals; and the ring frame against a disc's and a square's distance.
-#include "methods/tiles/sheet_mesh.h"
+#include "mesh/sheet_mesh.h"
 
 #include <gtest/gtest.h>
 
@@ -33,8 +33,8 @@ bool inside_regular(const Eigen::Vector2d& p, int n, double radius, double phase
   return true;
 }
 
-TileOutline polygon(int n, double radius, double phase = 0, const char* source = "disc") {
-  TileOutline t;
+PlaneRegion polygon(int n, double radius, double phase = 0, const char* source = "disc") {
+  PlaneRegion t;
   t.boundary.resize(n, 2);
   for (int i = 0; i < n; ++i) {
     const double a = phase + 2 * kPi * i / n;
@@ -51,14 +51,14 @@ Eigen::MatrixX2d rectangle(double x0, double y0, double x1, double y1) {
   return m;
 }
 
-TileOutline square_tile(double x0, double y0, double x1, double y1, const char* source) {
-  TileOutline t;
+PlaneRegion square_tile(double x0, double y0, double x1, double y1, const char* source) {
+  PlaneRegion t;
   t.boundary = rectangle(x0, y0, x1, y1);
   t.source = source;
   return t;
 }
 
-TileOutline rotated(const TileOutline& t, double angle) {
+PlaneRegion rotated(const PlaneRegion& t, double angle) {
   const double c = std::cos(angle), s = std::sin(angle);
   auto turn = [&](const Eigen::MatrixX2d& m) {
     Eigen::MatrixX2d r(m.rows(), 2);
@@ -66,7 +66,7 @@ TileOutline rotated(const TileOutline& t, double angle) {
     r.col(1) = s * m.col(0) + c * m.col(1);
     return r;
   };
-  TileOutline out = t;
+  PlaneRegion out = t;
   out.boundary = turn(t.boundary);
   for (Eigen::MatrixX2d& h : out.holes) h = turn(h);
   return out;
@@ -149,7 +149,7 @@ Eigen::Vector2d face_centroid(const SheetMesh& m, Eigen::Index f) {
 }
 
 TEST(SheetMesh, DiscIsCoveredByQualityTrianglesOfBoundedSize) {
-  const TileOutline disc = polygon(64, 15);
+  const PlaneRegion disc = polygon(64, 15);
   const SheetMesh m = sheet_mesh({disc}, {});
   const Stats s = stats(m);
   EXPECT_NEAR(s.area, signed_area(disc.boundary), 1e-9 * signed_area(disc.boundary));
@@ -171,7 +171,7 @@ TEST(SheetMesh, DiscIsCoveredByQualityTrianglesOfBoundedSize) {
 }
 
 TEST(SheetMesh, IsDeterministic) {
-  const TileOutline disc = polygon(40, 6);
+  const PlaneRegion disc = polygon(40, 6);
   const SheetMesh a = sheet_mesh({disc}, {});
   const SheetMesh b = sheet_mesh({disc}, {});
   EXPECT_EQ(a.V, b.V);
@@ -184,8 +184,8 @@ TEST(SheetMesh, IsDeterministic) {
 
 TEST(SheetMesh, TilesJoinedEdgeToEdgeGiveOnePiece) {
   // B has two extra points on the edge it shares with A; A has none there.
-  TileOutline a = square_tile(0, 0, 1, 1, "tile A");
-  TileOutline b;
+  PlaneRegion a = square_tile(0, 0, 1, 1, "tile A");
+  PlaneRegion b;
   b.boundary.resize(6, 2);
   b.boundary << 1, 0, 2, 0, 2, 1, 1, 1, 1, 0.7, 1, 0.3;
   b.source = "tile B";
@@ -219,8 +219,8 @@ TEST(SheetMesh, TilesJoinedEdgeToEdgeGiveOnePiece) {
 
 TEST(SheetMesh, TilesOverlappingAlongPartOfAnEdgeAreJoinedThere) {
   // B's lower edge overlaps A's upper edge only on [1, 2]: the union is one piece, outline 12.
-  const TileOutline a = square_tile(0, 0, 2, 1, "tile A");
-  const TileOutline b = square_tile(1, 1, 3, 3, "tile B");
+  const PlaneRegion a = square_tile(0, 0, 2, 1, "tile A");
+  const PlaneRegion b = square_tile(1, 1, 3, 3, "tile B");
   const SheetMesh m = sheet_mesh({a, b}, {});
   const Stats s = stats(m);
   EXPECT_EQ(s.pieces, 1);
@@ -229,10 +229,10 @@ TEST(SheetMesh, TilesOverlappingAlongPartOfAnEdgeAreJoinedThere) {
 }
 
 TEST(SheetMesh, LatticeAroundATileCoversTheUnion) {
-  TileOutline lattice = square_tile(-10, -10, 10, 10, "lattice");
+  PlaneRegion lattice = square_tile(-10, -10, 10, 10, "lattice");
   Eigen::MatrixX2d hole = polygon(8, 5, kPi / 8).boundary.colwise().reverse();  // clockwise
   lattice.holes.push_back(hole);
-  TileOutline tile = polygon(8, 5, kPi / 8, "tile");
+  PlaneRegion tile = polygon(8, 5, kPi / 8, "tile");
   const SheetMesh m = sheet_mesh({lattice, tile}, {});
   const Stats s = stats(m);
   const double tile_area = signed_area(tile.boundary);
@@ -252,7 +252,7 @@ TEST(SheetMesh, LatticeAroundATileCoversTheUnion) {
 }
 
 TEST(SheetMesh, GridOfSquareTiles) {
-  std::vector<TileOutline> tiles;
+  std::vector<PlaneRegion> tiles;
   for (int i = 0; i < 3; ++i) {
     for (int j = 0; j < 3; ++j)
       tiles.push_back(square_tile(25 * i, 25 * j, 25 * i + 25, 25 * j + 25, "grid"));
@@ -270,13 +270,13 @@ TEST(SheetMesh, GridOfSquareTiles) {
 }
 
 TEST(SheetMesh, RotationKeepsAreaAndFaceCount) {
-  TileOutline lattice = square_tile(-6, -4, 6, 4, "lattice");
+  PlaneRegion lattice = square_tile(-6, -4, 6, 4, "lattice");
   lattice.holes.push_back(rectangle(-2, -2, 2, 2).colwise().reverse());
-  const TileOutline tile = square_tile(-2, -2, 2, 2, "tile");
+  const PlaneRegion tile = square_tile(-2, -2, 2, 2, "tile");
   const SheetMesh m0 = sheet_mesh({lattice, tile}, {});
   const Stats s0 = stats(m0);
   // An exact quarter turn, (x, y) -> (-y, x): every predicate and construction turns with it.
-  auto quarter = [](TileOutline t) {
+  auto quarter = [](PlaneRegion t) {
     auto turn = [](const Eigen::MatrixX2d& m) {
       Eigen::MatrixX2d r(m.rows(), 2);
       r.col(0) = -m.col(1);
@@ -290,17 +290,17 @@ TEST(SheetMesh, RotationKeepsAreaAndFaceCount) {
   // Delaunay refinement is not rotation invariant in its details (CGAL breaks cocircular ties by
   // lexicographic order, and the Steiner points' order follows): the face count varies by a few
   // percent (476-514 here, 3443-3563 for the disc), the area not at all.
-  std::vector<std::vector<TileOutline>> turned = {{quarter(lattice), quarter(tile)}};
+  std::vector<std::vector<PlaneRegion>> turned = {{quarter(lattice), quarter(tile)}};
   for (double angle : {0.37, 2.0})
     turned.push_back({rotated(lattice, angle), rotated(tile, angle)});
-  for (const std::vector<TileOutline>& regions : turned) {
+  for (const std::vector<PlaneRegion>& regions : turned) {
     const SheetMesh m = sheet_mesh(regions, {});
     const Stats s = stats(m);
     EXPECT_NEAR(s.area, s0.area, 1e-9 * s0.area) << regions[1].boundary;
     EXPECT_NEAR(s.region_area.at(1), 16.0, 1e-9 * 16);
     EXPECT_NEAR(m.F.rows(), m0.F.rows(), 0.1 * m0.F.rows());
   }
-  const TileOutline disc = polygon(64, 15);
+  const PlaneRegion disc = polygon(64, 15);
   const SheetMesh d0 = sheet_mesh({disc}, {});
   for (double angle : {0.1, 1.0}) {
     const SheetMesh d = sheet_mesh({rotated(disc, angle)}, {});
@@ -327,7 +327,7 @@ TEST(SheetMesh, RefusesOverlappingRegions) {
 }
 
 TEST(SheetMesh, RefusesBadInputAndTooManyVertices) {
-  TileOutline line;
+  PlaneRegion line;
   line.boundary.resize(2, 2);
   line.boundary << 0, 0, 1, 0;
   line.source = "drawing.dxf: LINE";
@@ -359,7 +359,7 @@ TEST(RingFrame, DiscDepthAndTangent) {
   // On the normals of a polygon's chords the frame is exact: depth R cos(pi/N) - r.
   const int n = 256;
   const double radius = 15;
-  const TileOutline disc = polygon(n, radius);
+  const PlaneRegion disc = polygon(n, radius);
   Eigen::MatrixX2d points(0, 2);
   std::vector<double> polar, r_of;
   for (int k = 0; k < n; k += 7) {
@@ -380,7 +380,7 @@ TEST(RingFrame, DiscDepthAndTangent) {
   }
   // Anywhere: a fine polygon is the circle to 1e-6 R; the tangent within half a chord's angle.
   const int fine = 4096;
-  const TileOutline circle = polygon(fine, radius);
+  const PlaneRegion circle = polygon(fine, radius);
   Eigen::MatrixX2d anywhere(10'000, 2);
   for (Eigen::Index i = 0; i < anywhere.rows(); ++i) {
     const double r = radius * (0.05 + 0.95 * ((i * 37) % 100) / 100.0);
@@ -397,7 +397,7 @@ TEST(RingFrame, DiscDepthAndTangent) {
 }
 
 TEST(RingFrame, SquareWithAHole) {
-  TileOutline t = square_tile(-5, -5, 5, 5, "square");
+  PlaneRegion t = square_tile(-5, -5, 5, 5, "square");
   Eigen::MatrixX2d points(0, 2);
   for (double x = -4.9; x < 5; x += 0.7) {
     for (double y = -4.8; y < 5; y += 0.65) {
@@ -435,11 +435,11 @@ TEST(RingFrame, SquareWithAHole) {
 }
 
 TEST(RingFrame, IsRotationInvariant) {
-  const TileOutline t = polygon(7, 10, 0.3, "heptagon");
+  const PlaneRegion t = polygon(7, 10, 0.3, "heptagon");
   Eigen::MatrixX2d p(4, 2);
   p << 1, 2, -3, 0.5, 0.2, -6, 4, 4;
   const double angle = 0.9;
-  const TileOutline tr = rotated(t, angle);
+  const PlaneRegion tr = rotated(t, angle);
   Eigen::MatrixX2d pr(4, 2);
   pr.col(0) = std::cos(angle) * p.col(0) - std::sin(angle) * p.col(1);
   pr.col(1) = std::sin(angle) * p.col(0) + std::cos(angle) * p.col(1);
