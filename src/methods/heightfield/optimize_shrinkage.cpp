@@ -2,8 +2,6 @@
 
 #include <fmt/core.h>
 
-#include <Eigen/LU>
-#include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -31,37 +29,6 @@ double curve_slope(const ThicknessCurve& curve, double h) {
     power *= h;
   }
   return slope;
-}
-
-// The rigid motion (R, t) minimizing Σ_v m_v |R x_v + t − y_v|² (weighted Kabsch; x, y stacked).
-struct RigidFit {
-  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
-  Eigen::Vector3d translation = Eigen::Vector3d::Zero();
-};
-
-RigidFit weighted_rigid_fit(const Eigen::VectorXd& x, const Eigen::VectorXd& y,
-                            const Eigen::VectorXd& mass) {
-  const Eigen::Index nv = mass.size();
-  Eigen::Vector3d cx = Eigen::Vector3d::Zero(), cy = Eigen::Vector3d::Zero();
-  const double total = mass.sum();
-  for (Eigen::Index v = 0; v < nv; ++v) {
-    cx += mass(v) * x.segment<3>(3 * v);
-    cy += mass(v) * y.segment<3>(3 * v);
-  }
-  cx /= total;
-  cy /= total;
-  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
-  for (Eigen::Index v = 0; v < nv; ++v) {
-    covariance += mass(v) * (x.segment<3>(3 * v) - cx) * (y.segment<3>(3 * v) - cy).transpose();
-  }
-  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(covariance,
-                                              Eigen::ComputeFullU | Eigen::ComputeFullV);
-  Eigen::Matrix3d d = Eigen::Matrix3d::Identity();
-  d(2, 2) = (svd.matrixV() * svd.matrixU().transpose()).determinant() < 0 ? -1 : 1;
-  RigidFit fit;
-  fit.rotation = svd.matrixV() * d * svd.matrixU().transpose();
-  fit.translation = cy - fit.rotation * cx;
-  return fit;
 }
 
 // Everything that stays fixed while σ changes. Equilibria live in a frame where the plate's central
