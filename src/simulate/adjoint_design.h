@@ -26,6 +26,7 @@
 #include <Eigen/SparseCore>
 #include <functional>
 #include <limits>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -52,7 +53,8 @@ struct AdjointDesignProblem {
   Eigen::MatrixXd plate;   // #V x 2, mm, counter-clockwise faces
   Eigen::MatrixXi F;       // #F x 3
   Eigen::MatrixXd target;  // #V x 3, mm, one row per plate vertex
-  // The stack printed for the variables (per vertex; each face prints the mean of its corners).
+  // The stack printed for the variables (per vertex). Each face must print the mean of its
+  // corners' (face_average_matrix or vertex_to_face_average): the sensitivities assume it.
   std::function<LayerStack(const Eigen::VectorXd& variables)> layer_stack;
   // The exact derivative of the laminate of `stack` (printed by layer_stack) with respect to each
   // face's variable: laminate(stack, rates, derivative) with the method's per-layer rates.
