@@ -27,6 +27,12 @@ struct RigidFit {
 };
 RigidFit best_rigid_fit(const Eigen::MatrixXd& shape, const Eigen::MatrixXd& target);
 
+// The same fit weighted per vertex, minimizing Σ_v m_v |R x_v + t − y_v|² (mass: e.g. the lumped
+// mass, mm²), for shapes as stacked coordinates x, y = (x0, y0, z0, x1, ...) in mm (the inverse
+// design's distance after the best rigid motion).
+RigidFit weighted_rigid_fit(const Eigen::VectorXd& x, const Eigen::VectorXd& y,
+                            const Eigen::VectorXd& mass);
+
 // `shape` moved by best_rigid_fit, for comparing shapes simulated from different starts.
 Eigen::MatrixXd rigidly_aligned(const Eigen::MatrixXd& shape, const Eigen::MatrixXd& target);
 

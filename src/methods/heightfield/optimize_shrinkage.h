@@ -28,7 +28,8 @@
 // Gauss–Newton, (Sᵀ 2D S + 2 w_L L / Δ²) Δσ = −g with S = dx/dσ = −H⁻¹ ∂g/∂σ solved matrix-free by
 // conjugate gradients reusing the factor of H, on the vertices not held at a bound; Armijo
 // backtracking along the step projected onto the range, each trial's equilibrium warm-started at
-// the linear prediction x + S Δσ.
+// the linear prediction x + S Δσ. The solver is the shared one of simulate/adjoint_design.h; this
+// file holds what is σ's: its layer stack and derivative, range and regularizer.
 #pragma once
 
 #include <Eigen/Core>

@@ -13,7 +13,8 @@
 // gradient is the adjoint one (Eq. 14); steps are Gauss–Newton with exact sensitivities, S = dx/dθ2
 // = −H⁻¹ H_xθ (H_xθ from the exact derivative of the laminate's ā, b̄ and stiffness with respect to
 // each face's θ2), solved matrix-free by conjugate gradients on (Sᵀ 2D S + 2 w_M M + 2 w_L L) Δθ =
-// −g reusing the Cholesky factor of H.
+// −g reusing the Cholesky factor of H. The solver is the shared one of simulate/adjoint_design.h;
+// this file holds what is θ2's: its layer stack and derivative, bounds and regularizer.
 #pragma once
 
 #include <Eigen/Core>
