@@ -13,10 +13,6 @@
 namespace flatmorph {
 namespace {
 
-UserError option_error(const std::string& message) {
-  return UserError(ErrorCategory::kOption, message);
-}
-
 bool has_duplicates(std::vector<double> v) {
   std::sort(v.begin(), v.end());
   return std::adjacent_find(v.begin(), v.end()) != v.end();
@@ -24,36 +20,44 @@ bool has_duplicates(std::vector<double> v) {
 
 void validate_speed_ramp(const PrinterProfile& printer, const CalibrationPrintOptions& o) {
   if (o.nozzle_temperatures.size() != 1 || o.layer_heights.size() != 1) {
-    throw option_error(fmt::format(
-        "--speed-ramp prints one nozzle temperature and one layer height, {} and {} were given "
-        "({} C; {} mm): give one of each with --nozzle-temps and --layer-heights (default: the "
-        "material's)",
-        o.nozzle_temperatures.size(), o.layer_heights.size(), fmt::join(o.nozzle_temperatures, ","),
-        fmt::join(o.layer_heights, ",")));
+    throw UserError(
+        ErrorCategory::kOption,
+        fmt::format(
+            "--speed-ramp prints one nozzle temperature and one layer height, {} and {} were given "
+            "({} C; {} mm): give one of each with --nozzle-temps and --layer-heights (default: the "
+            "material's)",
+            o.nozzle_temperatures.size(), o.layer_heights.size(),
+            fmt::join(o.nozzle_temperatures, ","), fmt::join(o.layer_heights, ",")));
   }
-  if (o.print_speeds.empty()) throw option_error("--speed-ramp needs at least one print speed");
+  if (o.print_speeds.empty())
+    throw UserError(ErrorCategory::kOption, "--speed-ramp needs at least one print speed");
   // The profile has no extrusion speed limit of its own: its travel speed is the fastest it
   // lets the head move.
   for (double v : o.print_speeds) {
     if (!(v >= 1)) {
-      throw option_error(
+      throw UserError(
+          ErrorCategory::kOption,
           fmt::format("print speed {:g} mm/s: give speeds of 1 mm/s or more (in mm/s, not the "
                       "mm/min of a G-code feed rate)",
                       v));
     }
     if (v > printer.travel_speed) {
-      throw option_error(fmt::format(
-          "print speed {:g} mm/s is above {:g} mm/s, the travel speed of printer {} and the "
-          "fastest its profile moves the head: give --print-speeds up to {:g} mm/s, or a printer "
-          "profile with a higher speeds.travel",
-          v, printer.travel_speed, printer.name, printer.travel_speed));
+      throw UserError(
+          ErrorCategory::kOption,
+          fmt::format(
+              "print speed {:g} mm/s is above {:g} mm/s, the travel speed of printer {} and the "
+              "fastest its profile moves the head: give --print-speeds up to {:g} mm/s, or a "
+              "printer "
+              "profile with a higher speeds.travel",
+              v, printer.travel_speed, printer.name, printer.travel_speed));
     }
   }
   if (has_duplicates(o.print_speeds)) {
-    throw option_error("a print speed is listed twice: list each once");
+    throw UserError(ErrorCategory::kOption, "a print speed is listed twice: list each once");
   }
   if (std::lround(o.thickness / o.layer_heights.front()) < 2) {
-    throw option_error(
+    throw UserError(
+        ErrorCategory::kOption,
         fmt::format("a speed-ramp sample of {:g} mm at {:g} mm layers has one layer, printed at "
                     "the first-layer speed whatever the set's speed: give a --thickness of two "
                     "layers or more",
@@ -64,63 +68,79 @@ void validate_speed_ramp(const PrinterProfile& printer, const CalibrationPrintOp
 void validate(const PrinterProfile& printer, const Material& material,
               const CalibrationPrintOptions& o) {
   if (o.nozzle_temperatures.empty() || o.layer_heights.empty()) {
-    throw option_error("give at least one nozzle temperature and one layer height");
+    throw UserError(ErrorCategory::kOption,
+                    "give at least one nozzle temperature and one layer height");
   }
   if (o.thickness_ramp && o.speed_ramp) {
-    throw option_error(
+    throw UserError(
+        ErrorCategory::kOption,
         "--thickness-ramp and --speed-ramp are two calibrations, each with its own measurement "
         "sheet: print them one at a time");
   }
   if (o.thickness_ramp && o.nozzle_temperatures.size() != 1) {
-    throw option_error(
+    throw UserError(
+        ErrorCategory::kOption,
         fmt::format("--thickness-ramp prints one temperature, {} were given ({}): give one with "
                     "--nozzle-temps",
                     o.nozzle_temperatures.size(), fmt::join(o.nozzle_temperatures, ",")));
   }
   for (double t : o.nozzle_temperatures) {
     if (!(t >= material.min_nozzle_temperature && t <= material.max_nozzle_temperature)) {
-      throw option_error(fmt::format(
-          "nozzle temperature {:g} C lies outside the safe range [{:g}, {:g}] C of material {}: "
-          "choose temperatures inside it, or a material file with a wider range",
-          t, material.min_nozzle_temperature, material.max_nozzle_temperature, material.name));
+      throw UserError(
+          ErrorCategory::kOption,
+          fmt::format("nozzle temperature {:g} C lies outside the safe range [{:g}, {:g}] C of "
+                      "material {}: "
+                      "choose temperatures inside it, or a material file with a wider range",
+                      t, material.min_nozzle_temperature, material.max_nozzle_temperature,
+                      material.name));
     }
   }
   const double max_height = 0.8 * printer.nozzle_diameter;
   for (double h : o.layer_heights) {
     if (!(h >= 0.02 && h <= max_height)) {
-      throw option_error(fmt::format(
-          "layer height {:g} mm is out of range: give 0.02 to {:g} mm (80 % of the {:g} mm "
-          "nozzle)",
-          h, max_height, printer.nozzle_diameter));
+      throw UserError(
+          ErrorCategory::kOption,
+          fmt::format(
+              "layer height {:g} mm is out of range: give 0.02 to {:g} mm (80 % of the {:g} mm "
+              "nozzle)",
+              h, max_height, printer.nozzle_diameter));
     }
   }
   if (has_duplicates(o.nozzle_temperatures) || has_duplicates(o.layer_heights)) {
-    throw option_error("a nozzle temperature or layer height is listed twice: list each once");
+    throw UserError(ErrorCategory::kOption,
+                    "a nozzle temperature or layer height is listed twice: list each once");
   }
   if (o.repeats < 1 || o.repeats > 50) {
-    throw option_error(fmt::format("--repeats {} is out of range: give 1 to 50", o.repeats));
+    throw UserError(ErrorCategory::kOption,
+                    fmt::format("--repeats {} is out of range: give 1 to 50", o.repeats));
   }
   if (!(o.length >= 10 && o.length <= 1000 && o.width >= 3 && o.width <= o.length)) {
-    throw option_error(
-        fmt::format("sample size {:g} x {:g} mm: give a length of 10 to 1000 mm "
-                    "and a width of 3 mm up to the length",
-                    o.length, o.width));
+    throw UserError(ErrorCategory::kOption,
+                    fmt::format("sample size {:g} x {:g} mm: give a length of 10 to 1000 mm "
+                                "and a width of 3 mm up to the length",
+                                o.length, o.width));
   }
   if (!o.thickness_ramp && !(o.thickness > 0 && o.thickness <= 10)) {
-    throw option_error(fmt::format("--thickness {:g} mm: give 0 to 10 mm", o.thickness));
+    throw UserError(ErrorCategory::kOption,
+                    fmt::format("--thickness {:g} mm: give 0 to 10 mm", o.thickness));
   }
   if (o.thickness_ramp && (o.ramp_layers < 1 || o.ramp_layers > 100)) {
-    throw option_error(fmt::format("{} ramp layers: give 1 to 100", o.ramp_layers));
+    throw UserError(ErrorCategory::kOption,
+                    fmt::format("{} ramp layers: give 1 to 100", o.ramp_layers));
   }
   if (!(o.spacing >= 0 && o.spacing <= 5) || !(o.gap >= 1) || !(o.set_gap >= o.gap) ||
       !(o.margin >= 0)) {
-    throw option_error(fmt::format(
-        "spacing {:g}, gap {:g}, set gap {:g}, margin {:g} mm: give a spacing of 0 (the nozzle) to "
-        "5 mm, a gap of 1 mm or more, a set gap at least the gap, a margin of 0 or more",
-        o.spacing, o.gap, o.set_gap, o.margin));
+    throw UserError(
+        ErrorCategory::kOption,
+        fmt::format(
+            "spacing {:g}, gap {:g}, set gap {:g}, margin {:g} mm: give a spacing of 0 (the "
+            "nozzle) to "
+            "5 mm, a gap of 1 mm or more, a set gap at least the gap, a margin of 0 or more",
+            o.spacing, o.gap, o.set_gap, o.margin));
   }
   if (!(o.notch_depth >= 1 && o.notch_depth <= o.length / 4)) {
-    throw option_error(
+    throw UserError(
+        ErrorCategory::kOption,
         fmt::format("notch depth {:g} mm: give 1 mm to a quarter of the length", o.notch_depth));
   }
   if (o.speed_ramp) validate_speed_ramp(printer, o);
@@ -187,12 +207,15 @@ CalibrationPlan plan_calibration(const PrinterProfile& printer, const Material& 
   plan.code_bits = notch_code_bits(count);
   const double slot = o.width / plan.code_bits;
   if (slot < kMinNotchSlotWidth || slot < 2 * plan.extrusion_width) {
-    throw option_error(fmt::format(
-        "{} samples need a {}-notch code, whose notches would be {:.2f} mm wide on a {:g} mm "
-        "wide sample (at least {:g} mm and 2 paths are needed): print fewer sets or repeats, or "
-        "wider samples",
-        count, plan.code_bits, slot, o.width,
-        std::max(kMinNotchSlotWidth, 2 * plan.extrusion_width)));
+    throw UserError(
+        ErrorCategory::kOption,
+        fmt::format(
+            "{} samples need a {}-notch code, whose notches would be {:.2f} mm wide on a {:g} mm "
+            "wide sample (at least {:g} mm and 2 paths are needed): print fewer sets or repeats, "
+            "or "
+            "wider samples",
+            count, plan.code_bits, slot, o.width,
+            std::max(kMinNotchSlotWidth, 2 * plan.extrusion_width)));
   }
 
   // A set is a block of samples stacked along y (several columns if the bed is too shallow).

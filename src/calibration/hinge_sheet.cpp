@@ -13,6 +13,7 @@
 
 #include "calibration/calibration_print.h"
 #include "calibration/sheet_csv.h"
+#include "common/angles.h"
 #include "common/error.h"
 #include "common/file_text.h"
 #include "common/markup.h"
@@ -20,36 +21,37 @@
 namespace flatmorph {
 namespace {
 
-constexpr double kDegree = std::numbers::pi / 180;
 constexpr const char* kColumns[] = {"strip", "case", "print_speed", "width", "fold_angle"};
-
-UserError option_error(const std::string& message) {
-  return UserError(ErrorCategory::kOption, message);
-}
 
 void validate(const PrinterProfile& printer, const HingeSheetOptions& o) {
   if (o.speeds.empty() || o.widths.empty() || (!o.case_a && !o.case_b)) {
-    throw option_error(
+    throw UserError(
+        ErrorCategory::kOption,
         "the hinge sheet needs at least one speed, one actuator width and one case (A or B)");
   }
   for (double v : o.speeds) {
     if (!(v >= 1)) {
-      throw option_error(fmt::format(
-          "hinge speed {:g} mm/s: give speeds of 1 mm/s or more (in mm/s: the paper's 3000-9000 "
-          "mm/min are 50-150 mm/s)",
-          v));
+      throw UserError(ErrorCategory::kOption,
+                      fmt::format("hinge speed {:g} mm/s: give speeds of 1 mm/s or more (in mm/s: "
+                                  "the paper's 3000-9000 "
+                                  "mm/min are 50-150 mm/s)",
+                                  v));
     }
     if (v > printer.travel_speed) {
-      throw option_error(fmt::format(
-          "hinge speed {:g} mm/s is above {:g} mm/s, the travel speed of printer {} and the "
-          "fastest its profile moves the head: give --hinge-speeds up to {:g} mm/s (in mm/s, not "
-          "mm/min), or a printer profile with a higher speeds.travel",
-          v, printer.travel_speed, printer.name, printer.travel_speed));
+      throw UserError(
+          ErrorCategory::kOption,
+          fmt::format(
+              "hinge speed {:g} mm/s is above {:g} mm/s, the travel speed of printer {} and the "
+              "fastest its profile moves the head: give --hinge-speeds up to {:g} mm/s (in mm/s, "
+              "not "
+              "mm/min), or a printer profile with a higher speeds.travel",
+              v, printer.travel_speed, printer.name, printer.travel_speed));
     }
   }
   for (double w : o.widths) {
     if (!(w >= 1 && w <= 100)) {
-      throw option_error(fmt::format("actuator width {:g} mm: give widths of 1 to 100 mm", w));
+      throw UserError(ErrorCategory::kOption,
+                      fmt::format("actuator width {:g} mm: give widths of 1 to 100 mm", w));
     }
   }
   auto repeated = [](std::vector<double> v) {
@@ -57,25 +59,30 @@ void validate(const PrinterProfile& printer, const HingeSheetOptions& o) {
     return std::adjacent_find(v.begin(), v.end()) != v.end();
   };
   if (repeated(o.speeds) || repeated(o.widths)) {
-    throw option_error("a hinge speed or width is listed twice: list each once");
+    throw UserError(ErrorCategory::kOption,
+                    "a hinge speed or width is listed twice: list each once");
   }
   if (std::string problem = hinge_stack_problem(o.stack); !problem.empty()) {
-    throw option_error("the actuator's layer stack is unusable: " + problem);
+    throw UserError(ErrorCategory::kOption, "the actuator's layer stack is unusable: " + problem);
   }
   if (!(o.hinge_length >= 5 && o.hinge_length <= 100) ||
       !(o.face_length >= 2 * o.notch_depth + o.stack.overlap && o.face_length <= 200) ||
       !(o.notch_depth >= 1)) {
-    throw option_error(fmt::format(
-        "hinge strips of {:g} mm faces, {:g} mm hinges and {:g} mm notches: give hinges of 5 to "
-        "100 mm, notches of 1 mm or more and faces at least twice the notch plus the {:g} mm "
-        "overlap, up to 200 mm",
-        o.face_length, o.hinge_length, o.notch_depth, o.stack.overlap));
+    throw UserError(
+        ErrorCategory::kOption,
+        fmt::format(
+            "hinge strips of {:g} mm faces, {:g} mm hinges and {:g} mm notches: give hinges of 5 "
+            "to "
+            "100 mm, notches of 1 mm or more and faces at least twice the notch plus the {:g} mm "
+            "overlap, up to 200 mm",
+            o.face_length, o.hinge_length, o.notch_depth, o.stack.overlap));
   }
   if (!(o.spacing >= 0 && o.spacing <= 5) || !(o.gap >= 1) || !(o.margin >= 0)) {
-    throw option_error(fmt::format(
-        "spacing {:g}, gap {:g}, margin {:g} mm: give a spacing of 0 (the nozzle) to 5 mm, a gap "
-        "of 1 mm or more, a margin of 0 or more",
-        o.spacing, o.gap, o.margin));
+    throw UserError(ErrorCategory::kOption,
+                    fmt::format("spacing {:g}, gap {:g}, margin {:g} mm: give a spacing of 0 (the "
+                                "nozzle) to 5 mm, a gap "
+                                "of 1 mm or more, a margin of 0 or more",
+                                o.spacing, o.gap, o.margin));
   }
 }
 
@@ -130,12 +137,15 @@ HingeSheetPlan plan_hinge_sheet(const PrinterProfile& printer, const HingeSheetO
   plan.code_bits = notch_code_bits(groups);
   const double slot = o.hinge_length / plan.code_bits;
   if (slot < kMinNotchSlotWidth || slot < 2 * plan.extrusion_width) {
-    throw option_error(fmt::format(
-        "{} groups of strips (cases x speeds) need a {}-notch code, whose notches would be {:.2f} "
-        "mm wide on a {:g} mm hinge (at least {:g} mm and 2 lines are needed): print fewer "
-        "speeds or one case at a time",
-        groups, plan.code_bits, slot, o.hinge_length,
-        std::max(kMinNotchSlotWidth, 2 * plan.extrusion_width)));
+    throw UserError(
+        ErrorCategory::kOption,
+        fmt::format(
+            "{} groups of strips (cases x speeds) need a {}-notch code, whose notches would be "
+            "{:.2f} "
+            "mm wide on a {:g} mm hinge (at least {:g} mm and 2 lines are needed): print fewer "
+            "speeds or one case at a time",
+            groups, plan.code_bits, slot, o.hinge_length,
+            std::max(kMinNotchSlotWidth, 2 * plan.extrusion_width)));
   }
 
   // Rows from the far side of the bed, strips left to right in the order case, speed, width.

@@ -6,14 +6,22 @@ namespace flatmorph {
 
 std::string_view to_string(ErrorCategory category) {
   switch (category) {
-    case ErrorCategory::kFile: return "file";
-    case ErrorCategory::kFormat: return "format";
-    case ErrorCategory::kGeometry: return "geometry";
-    case ErrorCategory::kTopology: return "topology";
-    case ErrorCategory::kOption: return "option";
-    case ErrorCategory::kProfile: return "profile";
-    case ErrorCategory::kInfeasible: return "infeasible";
-    case ErrorCategory::kResource: return "resource";
+    case ErrorCategory::kFile:
+      return "file";
+    case ErrorCategory::kFormat:
+      return "format";
+    case ErrorCategory::kGeometry:
+      return "geometry";
+    case ErrorCategory::kTopology:
+      return "topology";
+    case ErrorCategory::kOption:
+      return "option";
+    case ErrorCategory::kProfile:
+      return "profile";
+    case ErrorCategory::kInfeasible:
+      return "infeasible";
+    case ErrorCategory::kResource:
+      return "resource";
   }
   return "unknown";
 }
@@ -29,6 +37,10 @@ std::string printable(std::string_view text) {
     }
   }
   return text.size() > 32 ? out + "..." : out;
+}
+
+void require_option(bool ok, const std::string& message) {
+  if (!ok) throw UserError(ErrorCategory::kOption, message);
 }
 
 }  // namespace flatmorph

@@ -1,10 +1,11 @@
 // Errors flatmorph reports to its user.
 //
-// A UserError is a problem with what the user gave us (a file, a mesh, an option value): the message
-// names the input, the problem and what to do, and the CLI exits with status 2. Anything else that
-// escapes is an internal failure (exit status 1): a library function whose caller broke its
-// precondition (arrays of different sizes that other code produced) throws std::invalid_argument,
-// never a UserError, so that a bug is not reported to the user as a bad option.
+// A UserError is a problem with what the user gave us (a file, a mesh, an option value): the
+// message names the input, the problem and what to do, and the CLI exits with status 2. Anything
+// else that escapes is an internal failure (exit status 1): a library function whose caller broke
+// its precondition (arrays of different sizes that other code produced) throws
+// std::invalid_argument, never a UserError, so that a bug is not reported to the user as a bad
+// option.
 #pragma once
 
 #include <stdexcept>
@@ -40,5 +41,8 @@ class UserError : public std::runtime_error {
  private:
   ErrorCategory category_;
 };
+
+// Throws UserError (kOption) with `message` unless `ok`: the check of one option's value.
+void require_option(bool ok, const std::string& message);
 
 }  // namespace flatmorph

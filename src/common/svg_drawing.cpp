@@ -1,4 +1,5 @@
 #include "common/svg_drawing.h"
+#include "common/angles.h"
 
 #include <fmt/core.h>
 
@@ -11,7 +12,6 @@
 namespace flatmorph::svg {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
 constexpr size_t kMaxDepth = 256;
 constexpr double kMillimetresPerPx = 25.4 / 96;  // CSS
 

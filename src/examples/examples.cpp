@@ -15,7 +15,7 @@ namespace {
 // Every example is a height field z = height(x, y) (mm) over a disk footprint of radius
 // `footprint_radius` centred on the origin. A height field seen from above has its normals up as
 // long as the footprint triangles are counter-clockwise.
-struct HeightField {
+struct ExampleSurface {
   double footprint_radius;
   std::function<double(double, double)> height;
   std::function<Eigen::Vector2d(double, double)> gradient;
@@ -23,7 +23,7 @@ struct HeightField {
 
 struct Example {
   ExampleInfo info;
-  std::function<HeightField()> field;
+  std::function<ExampleSurface()> field;
 };
 
 // 22 rings give 6 * 22^2 = 2904 faces: fine enough to resolve the curvature, small enough for the
@@ -38,31 +38,31 @@ std::vector<Example> examples() {
         "curvature"},
        [] {
          constexpr double kRadius = 60.0;
-         return HeightField{40.0,
-                            [](double x, double y) {
-                              return std::sqrt(kRadius * kRadius - x * x - y * y) - kRadius;
-                            },
-                            [](double x, double y) {
-                              const double scale =
-                                  -1.0 / std::sqrt(kRadius * kRadius - x * x - y * y);
-                              return Eigen::Vector2d(scale * x, scale * y);
-                            }};
+         return ExampleSurface{40.0,
+                               [](double x, double y) {
+                                 return std::sqrt(kRadius * kRadius - x * x - y * y) - kRadius;
+                               },
+                               [](double x, double y) {
+                                 const double scale =
+                                     -1.0 / std::sqrt(kRadius * kRadius - x * x - y * y);
+                                 return Eigen::Vector2d(scale * x, scale * y);
+                               }};
        }},
       {{"saddle",
         "z = (x^2 - y^2) / 160 mm over an 80 mm disk, +-10 mm; negative Gaussian curvature"},
        [] {
          constexpr double kScale = 2.0 * 80.0;
-         return HeightField{40.0, [](double x, double y) { return (x * x - y * y) / kScale; },
-                            [](double x, double y) {
-                              return Eigen::Vector2d(2.0 * x / kScale, -2.0 * y / kScale);
-                            }};
+         return ExampleSurface{40.0, [](double x, double y) { return (x * x - y * y) / kScale; },
+                               [](double x, double y) {
+                                 return Eigen::Vector2d(2.0 * x / kScale, -2.0 * y / kScale);
+                               }};
        }},
       {{"paraboloid",
         "elliptic paraboloid cap, radii of curvature 70 mm (x) and 110 mm (y) at the apex, 90 mm "
         "footprint; positive, anisotropic Gaussian curvature"},
        [] {
          constexpr double kRadiusX = 70.0, kRadiusY = 110.0;
-         return HeightField{
+         return ExampleSurface{
              45.0,
              [](double x, double y) {
                return -(x * x / (2.0 * kRadiusX) + y * y / (2.0 * kRadiusY));
@@ -77,10 +77,10 @@ std::vector<Example> examples() {
          auto height = [](double x, double y) {
            return kAmplitude * std::exp(-(x * x + y * y) / (kWidth * kWidth));
          };
-         return HeightField{50.0, height, [height](double x, double y) {
-                              const double scale = -2.0 * height(x, y) / (kWidth * kWidth);
-                              return Eigen::Vector2d(scale * x, scale * y);
-                            }};
+         return ExampleSurface{50.0, height, [height](double x, double y) {
+                                 const double scale = -2.0 * height(x, y) / (kWidth * kWidth);
+                                 return Eigen::Vector2d(scale * x, scale * y);
+                               }};
        }},
   };
 }
@@ -88,7 +88,7 @@ std::vector<Example> examples() {
 // Footprint radii of rings 0..rings such that consecutive rings are equally far apart along the
 // surface. The radial arc length is averaged over the direction, s(r) = int_0^r mean_psi
 // sqrt(1 + (dz/dr)^2), which is the geodesic arc length for surfaces of revolution (the dome).
-std::vector<double> even_ring_radii(const HeightField& field, int rings) {
+std::vector<double> even_ring_radii(const ExampleSurface& field, int rings) {
   constexpr int kSamples = 2000;  // along the radius, trapezoid rule
   constexpr int kDirections = 64;
   auto slope_factor = [&](double r) {
@@ -131,7 +131,7 @@ std::vector<ExampleInfo> example_list() {
 Mesh make_example(const std::string& name) {
   for (const Example& example : examples()) {
     if (example.info.name != name) continue;
-    const HeightField field = example.field();
+    const ExampleSurface field = example.field();
     Mesh mesh = ring_disk(even_ring_radii(field, kRings));
     for (int v = 0; v < mesh.num_vertices(); ++v) {
       mesh.V(v, 2) = field.height(mesh.V(v, 0), mesh.V(v, 1));

@@ -5,12 +5,11 @@
 #include <functional>
 #include <numbers>
 
+#include "common/angles.h"
 #include "examples/ring_mesh.h"
 
 namespace flatmorph {
 namespace {
-
-constexpr double kPi = std::numbers::pi;
 
 // A star-shaped footprint: its outline's distance from the origin in the direction psi (mm).
 using Outline = std::function<double(double psi)>;

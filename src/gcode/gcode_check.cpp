@@ -18,7 +18,7 @@
 namespace flatmorph {
 namespace {
 
-constexpr double kEpsilon = 1e-6;  // mm of filament or head motion treated as none
+constexpr double kNoMotion = 1e-6;  // mm of filament or head motion treated as none
 // Written by the G-code writer where a one-nozzle printer pauses for a manual filament swap.
 constexpr std::string_view kSwapAnnotation = ";FILAMENT_SWAP:T";
 
@@ -291,7 +291,7 @@ class Checker {
     const double e = *cmd.get('E');
     const double de = relative_e() ? e : e - e_;
     e_ = relative_e() ? e_ + e : e;
-    if (de > kEpsilon) {
+    if (de > kNoMotion) {
       if (rapid) {
         flag(ViolationKind::kExtrusionOnTravel,
              fmt::format("G0 is a travel move but pushes {:.5f} mm of filament; extrude with G1",
@@ -307,14 +307,14 @@ class Checker {
       const double prime = std::min(de, retracted);
       retracted -= prime;
       const double extruded = de - prime;
-      if (prime > kEpsilon && xy_length && *xy_length > kRetractMoveTolerance) {
+      if (prime > kNoMotion && xy_length && *xy_length > kRetractMoveTolerance) {
         flag(ViolationKind::kUnretractWhileMoving,
              fmt::format("pushes back {:.3f} mm of retracted filament while travelling {:.3f} mm: "
                          "unretract in place (G1 E only), then move",
                          prime, *xy_length));
       }
-      if (extruded > kEpsilon) check_extrusion(extruded, length);
-    } else if (de < -kEpsilon) {
+      if (extruded > kNoMotion) check_extrusion(extruded, length);
+    } else if (de < -kNoMotion) {
       retracted_[tool_] += -de;
       if (xy_length && *xy_length > kRetractMoveTolerance) {
         flag(ViolationKind::kRetractWhileMoving,
@@ -363,7 +363,7 @@ class Checker {
                          filament, target->second, m.max_nozzle_temperature, m.name));
       }
     }
-    if (length && *length > kEpsilon) {
+    if (length && *length > kNoMotion) {
       const double area = extruded * std::numbers::pi * printer_.filament_diameter *
                           printer_.filament_diameter / 4 / *length;
       const double most =

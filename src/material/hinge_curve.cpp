@@ -13,12 +13,12 @@ namespace flatmorph {
 namespace {
 
 // Faster than any FFF printer extrudes: a range beyond it was written in mm/min.
-constexpr double kMaxPlausibleSpeed = 1000;
+constexpr double kMaxPlausibleTpuSpeed = 1000;
 // A fold of more than 2 rad per mm (r < 0.5 mm) is no 0.8 mm thick strip: a unit mistake.
 constexpr double kMaxCurvature = 2;
-constexpr int kMonotoneSamples = 400;
+constexpr int kHingeCurveSamples = 400;
 // Slack at the ends of the range (mm/s), for speeds read back from text.
-constexpr double kRangeSlack = 1e-9;
+constexpr double kSpeedSlack = 1e-9;
 
 std::span<const double> coefficients(const HingeCurve& c, bool pla_on_bed) {
   return pla_on_bed ? c.case_a_coefficients : c.case_b_coefficients;
@@ -37,8 +37,8 @@ std::string case_problem(const HingeCurve& c, bool pla_on_bed) {
   }
   double previous = 0;
   int sign = 0;
-  for (int i = 0; i <= kMonotoneSamples; ++i) {
-    const double v = c.min_speed + (c.max_speed - c.min_speed) * i / kMonotoneSamples;
+  for (int i = 0; i <= kHingeCurveSamples; ++i) {
+    const double v = c.min_speed + (c.max_speed - c.min_speed) * i / kHingeCurveSamples;
     const double kappa = polynomial_value(k, v);
     if (!(kappa > 0 && kappa <= kMaxCurvature)) {
       return fmt::format(
@@ -75,9 +75,9 @@ std::string hinge_stack_problem(const HingeStack& s) {
     return fmt::format("it has {} PLA and {} TPU layers; give 1 to 20 of each", s.pla_layers,
                        s.tpu_layers);
   }
-  if (!(s.tpu_speed > 0 && s.tpu_speed <= kMaxPlausibleSpeed)) {
+  if (!(s.tpu_speed > 0 && s.tpu_speed <= kMaxPlausibleTpuSpeed)) {
     return fmt::format("its TPU speed is {:g} mm/s; give (0, {:g}] mm/s (not mm/min)", s.tpu_speed,
-                       kMaxPlausibleSpeed);
+                       kMaxPlausibleTpuSpeed);
   }
   if (!(s.overlap >= 0 && s.overlap <= 10)) {
     return fmt::format("its overlap into the faces is {:g} mm; give 0 to 10 mm", s.overlap);
@@ -90,7 +90,7 @@ std::string hinge_curve_problem(const HingeCurve& c) {
     return fmt::format("its speed range [{:g}, {:g}] mm/s is not an interval of positive speeds",
                        c.min_speed, c.max_speed);
   }
-  if (c.max_speed > kMaxPlausibleSpeed) {
+  if (c.max_speed > kMaxPlausibleTpuSpeed) {
     return fmt::format(
         "its speed range ends at {:g} mm/s, faster than any printer extrudes; give the speeds in "
         "mm/s (a G-code feed rate in mm/min is 60 times larger)",
@@ -110,7 +110,7 @@ std::string hinge_curve_problem(const HingeCurve& c) {
 }
 
 double hinge_curvature(const HingeCurve& c, double speed, bool pla_on_bed) {
-  if (!(speed >= c.min_speed - kRangeSlack && speed <= c.max_speed + kRangeSlack)) {
+  if (!(speed >= c.min_speed - kSpeedSlack && speed <= c.max_speed + kSpeedSlack)) {
     throw UserError(
         ErrorCategory::kInfeasible,
         fmt::format("an actuator printed at {:g} mm/s ({:g} mm/min) lies outside the {} hinge "

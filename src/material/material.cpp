@@ -276,7 +276,7 @@ Material parse_material(const nlohmann::json& j, const std::string& source, std:
   return m;
 }
 
-nlohmann::json parse_json(std::string_view text, const std::string& source) {
+nlohmann::json json_document(std::string_view text, const std::string& source) {
   try {
     return nlohmann::json::parse(text);
   } catch (const nlohmann::json::exception& e) {  // parse_error, and out_of_range for 1e400
@@ -288,7 +288,7 @@ nlohmann::json parse_json(std::string_view text, const std::string& source) {
 }  // namespace
 
 Material parse_material_json(std::string_view text, const std::string& source) {
-  const nlohmann::json j = parse_json(text, source);
+  const nlohmann::json j = json_document(text, source);
   std::string name = j.is_object() && j.contains("name") && j["name"].is_string()
                          ? j["name"].get<std::string>()
                          : std::string();
@@ -399,7 +399,7 @@ Material load_material(const std::string& name_or_path) {
   for (const EmbeddedProfile& p : embedded_profiles()) {
     if (p.kind == "materials" && p.name == name_or_path) {
       const std::string source = fmt::format("built-in material {}", p.name);
-      return parse_material(parse_json(p.text, source), source, std::string(p.name));
+      return parse_material(json_document(p.text, source), source, std::string(p.name));
     }
   }
   const std::filesystem::path path(name_or_path);
@@ -409,7 +409,7 @@ Material load_material(const std::string& name_or_path) {
                     fmt::format("unknown material \"{}\": not a preset ({}) and no such file",
                                 name_or_path, fmt::join(material_preset_names(), ", ")));
   }
-  return parse_material(parse_json(read_file_text(path, "material file"), name_or_path),
+  return parse_material(json_document(read_file_text(path, "material file"), name_or_path),
                         name_or_path, path.stem().string());
 }
 

@@ -10,7 +10,8 @@
 #include "numerics/sparse_cholesky.h"
 
 namespace flatmorph {
-namespace {
+// Named rather than anonymous: NewtonWorkspace::State, a type the header declares, holds one.
+namespace newton_internal {
 
 // The Hessian restricted to the free variables, built once from the full lower-triangular pattern:
 // entries are copied by index, so each iteration costs one pass over the nonzeros.
@@ -51,6 +52,12 @@ class ReducedHessian {
   Eigen::SparseMatrix<double> matrix_;
   Eigen::Index full_nonzeros_ = 0;
 };
+
+}  // namespace newton_internal
+
+using newton_internal::ReducedHessian;
+
+namespace {
 
 bool all_finite(const Eigen::VectorXd& v) { return v.allFinite(); }
 

@@ -23,10 +23,6 @@
 namespace flatmorph {
 namespace {
 
-void require_option(bool ok, const std::string& message) {
-  if (!ok) throw UserError(ErrorCategory::kOption, message);
-}
-
 bool has_extension(const std::string& path, const char* extension) {
   std::string ext = std::filesystem::path(path).extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(),

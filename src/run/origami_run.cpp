@@ -8,11 +8,11 @@
 
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <numbers>
-#include <sstream>
 
+#include "common/angles.h"
 #include "common/error.h"
+#include "common/file_text.h"
 #include "common/stopwatch.h"
 #include "examples/origami_examples.h"
 #include "gcode/gcode_writer.h"
@@ -28,18 +28,12 @@
 namespace flatmorph {
 namespace {
 
-constexpr double kDegree = std::numbers::pi / 180;
-
 // The sheets go on the bed with a margin for the skirt and the primes, mm.
 constexpr double kBedMarginMm = 10;
 
 // --fit-hinges: how close every hinge must come, and the mesh its rounds simulate on.
 constexpr double kHingeFitTolerance = 2 * kDegree;  // rad
 constexpr double kHingeFitMeshEdge = 3;             // mm
-
-void require_option(bool ok, const std::string& message) {
-  if (!ok) throw UserError(ErrorCategory::kOption, message);
-}
 
 void check_options(const OrigamiRunOptions& o, const RunInput& input) {
   require_option(
@@ -71,18 +65,6 @@ void check_options(const OrigamiRunOptions& o, const RunInput& input) {
                  fmt::format("--flat-angle {}: give degrees in [0, 30)", o.flat_angle_deg));
 }
 
-std::string read_file_text(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    throw UserError(ErrorCategory::kFile, fmt::format("{}: cannot open the file: check the path "
-                                                      "and that it is readable",
-                                                      path));
-  }
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
 std::string gcode_name(int bed) {
   return bed == 0 ? std::string("plate") : fmt::format("plate_{}", bed + 1);
 }
@@ -96,8 +78,8 @@ OrigamiDesign design_sheets(const OrigamiSetup& setup, std::vector<std::string>&
     CreasePatternReadOptions read;
     read.flat_angle = options.flat_angle;
     read.name = std::filesystem::path(input.path).stem().string();
-    const CreasePattern pattern =
-        read_crease_pattern_svg(read_file_text(input.path), input.path, read, &notes);
+    const CreasePattern pattern = read_crease_pattern_svg(
+        read_file_text(input.path, "crease pattern"), input.path, read, &notes);
     return design_origami_pattern(pattern, options);
   }
   PlanarFacesOptions simplify;

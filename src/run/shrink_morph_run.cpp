@@ -18,10 +18,6 @@ constexpr double kSteadyDesignPercent = 1.0;
 
 constexpr int kMaxFaces = 2'000'000;
 
-void require_option(bool ok, const std::string& message) {
-  if (!ok) throw UserError(ErrorCategory::kOption, message);
-}
-
 int parse_stretch(const std::string& stretch) {
   if (stretch == "auto") return kAutomaticStretch;
   if (stretch == "all") return kEveryStretch;

@@ -17,10 +17,6 @@
 namespace flatmorph {
 namespace {
 
-void require_option(bool ok, const std::string& message) {
-  if (!ok) throw UserError(ErrorCategory::kOption, message);
-}
-
 void check_options(const TilesRunOptions& o, const RunInput& input) {
   require_option(input.path.empty() != input.example.empty(),
                  input.path.empty()

@@ -6,12 +6,11 @@
 #include <limits>
 #include <numbers>
 
+#include "common/angles.h"
 #include "mesh/plane_geometry.h"
 
 namespace flatmorph {
 namespace {
-
-constexpr double kTwoPi = 2 * std::numbers::pi;
 
 // Segments of all polylines bucketed in square cells, for distance queries within a radius.
 class SegmentGrid {

@@ -7,6 +7,7 @@
 #include <numbers>
 #include <string>
 
+#include "common/angles.h"
 #include "common/error.h"
 #include "common/stopwatch.h"
 #include "mesh/operators.h"
@@ -20,8 +21,6 @@
 
 namespace flatmorph {
 namespace {
-
-constexpr double kPi = std::numbers::pi;
 
 // The stripe patterns trace one direction field per layer over the whole plate at one bead
 // height with one tool: a layer that varies, or leaves faces out, needs another tracing.

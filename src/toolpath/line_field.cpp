@@ -4,18 +4,10 @@
 #include <complex>
 #include <numbers>
 
+#include "common/angles.h"
 #include "mesh/operators.h"
 
 namespace flatmorph {
-namespace {
-
-// x wrapped to [-pi, pi).
-double wrap_angle(double x) {
-  constexpr double kTwoPi = 2 * std::numbers::pi;
-  return x - kTwoPi * std::floor((x + std::numbers::pi) / kTwoPi);
-}
-
-}  // namespace
 
 Eigen::VectorXcd face_to_vertex_line_field(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
                                            const Eigen::VectorXd& theta_face) {

@@ -5,12 +5,11 @@
 #include <limits>
 #include <numbers>
 
+#include "common/angles.h"
 #include "mesh/topology.h"
 
 namespace flatmorph {
 namespace {
-
-constexpr double kTwoPi = 2 * std::numbers::pi;
 
 struct Outline {
   std::vector<Eigen::Vector2d> a, b;  // boundary edges

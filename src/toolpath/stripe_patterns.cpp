@@ -12,6 +12,7 @@
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
+#include "common/angles.h"
 #include "mesh/operators.h"
 #include "numerics/sparse_cholesky.h"
 #include "toolpath/line_field.h"
@@ -19,12 +20,8 @@
 namespace flatmorph {
 namespace {
 
-constexpr double kTwoPi = 2 * std::numbers::pi;
 // Phases closer than this to an isoline level are moved off it (radians).
 constexpr double kPhaseNudge = 1e-9;
-
-// x wrapped to [-pi, pi).
-double wrap_angle(double x) { return x - kTwoPi * std::floor((x + std::numbers::pi) / kTwoPi); }
 
 // X_v, the unit vector at theta_v + pi/2: the square root of z_v = -e^{2 i theta_v} taken as
 // e^{i arg(z_v) / 2}, arg in (-pi, pi] (the sign choice only decides which edges cross sheets).

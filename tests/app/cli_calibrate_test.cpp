@@ -14,7 +14,7 @@
 #include "material/material.h"
 #include "test_support.h"
 
-namespace flatmorph {
+namespace flatmorph::cli_calibrate_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -343,4 +343,4 @@ TEST(CliCalibrate, BadMeasurementsGiveOneLineNamingLineAndColumn) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::cli_calibrate_test

@@ -7,7 +7,7 @@
 #include "mesh/io.h"
 #include "test_support.h"
 
-namespace flatmorph {
+namespace flatmorph::cli_design_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -121,4 +121,4 @@ TEST(CliDesign, BadOptionsExit2AndWriteNothing) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::cli_design_test

@@ -10,7 +10,7 @@
 
 #include "test_support.h"
 
-namespace flatmorph {
+namespace flatmorph::cli_heightfield_test {
 namespace {
 
 using testing::run_cli;
@@ -66,4 +66,4 @@ TEST(CliHeightField, RefusesBadRequestsBeforeAnyWork) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::cli_heightfield_test

@@ -6,7 +6,7 @@
 
 #include "test_support.h"
 
-namespace flatmorph {
+namespace flatmorph::cli_info_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -169,4 +169,4 @@ TEST(CliGeneral, VersionHelpAndBadCommand) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::cli_info_test

@@ -12,7 +12,7 @@
 
 #include "test_support.h"
 
-namespace flatmorph {
+namespace flatmorph::cli_origami_test {
 namespace {
 
 using testing::run_cli;
@@ -185,4 +185,4 @@ TEST(CliOrigami, RefusesMeshesThatCannotFoldAndBadRequestsBeforeAnyWork) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::cli_origami_test

@@ -7,7 +7,7 @@
 
 #include "test_support.h"
 
-namespace flatmorph {
+namespace flatmorph::cli_reference_test {
 namespace {
 
 TEST(CliReference, DocsCliMdIsTheProgramsOwnHelp) {
@@ -58,4 +58,4 @@ TEST(CliReference, HelpOfACommandIsItsHelpOption) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::cli_reference_test

@@ -10,7 +10,7 @@
 #include "mesh/io.h"
 #include "test_support.h"
 
-namespace flatmorph {
+namespace flatmorph::cli_simulate_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -173,4 +173,4 @@ TEST(CliSimulate, HostileGcodeGivesOneLineAndExit2) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::cli_simulate_test

@@ -10,7 +10,7 @@
 
 #include "test_support.h"
 
-namespace flatmorph {
+namespace flatmorph::cli_tiles_test {
 namespace {
 
 using testing::run_cli;
@@ -113,4 +113,4 @@ TEST(CliTiles, RefusesBadRequestsBeforeAnyWork) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::cli_tiles_test

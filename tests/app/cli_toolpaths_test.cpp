@@ -6,7 +6,7 @@
 
 #include "test_support.h"
 
-namespace flatmorph {
+namespace flatmorph::cli_toolpaths_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -74,4 +74,4 @@ TEST(CliToolpaths, BadOptionsGiveOneLineErrors) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::cli_toolpaths_test

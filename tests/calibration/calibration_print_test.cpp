@@ -15,7 +15,7 @@
 #include "gcode/gcode_expectations.h"
 #include "gcode/gcode_replay.h"
 
-namespace flatmorph {
+namespace flatmorph::calibration_print_test {
 namespace {
 
 using testing::read_gcode;
@@ -335,4 +335,4 @@ TEST(CalibrationPrint, TemplateHasOneRowPerSample) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::calibration_print_test

@@ -11,14 +11,13 @@
 #include <numbers>
 #include <string>
 
+#include "common/angles.h"
 #include "common/error.h"
 #include "gcode/gcode_replay.h"
 #include "gcode/gcode_writer.h"
 
-namespace flatmorph {
+namespace flatmorph::hinge_sheet_test {
 namespace {
-
-constexpr double kDegree = std::numbers::pi / 180;
 
 template <typename F>
 std::string error_of(F f, ErrorCategory category) {
@@ -256,4 +255,4 @@ TEST(HingeSheet, FitRefusesWhatTheAnglesCannotGive) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::hinge_sheet_test

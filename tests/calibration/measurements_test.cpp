@@ -14,7 +14,7 @@
 #include "common/error.h"
 #include "gcode/printer_profile.h"
 
-namespace flatmorph {
+namespace flatmorph::measurements_test {
 namespace {
 
 struct Truth {
@@ -255,4 +255,4 @@ TEST(Measurements, ThicknessRampSheetGivesTheCurve) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::measurements_test

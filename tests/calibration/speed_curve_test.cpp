@@ -20,7 +20,7 @@
 #include "gcode/printer_profile.h"
 #include "material/material.h"
 
-namespace flatmorph {
+namespace flatmorph::speed_curve_test {
 namespace {
 
 // A cubic in v (mm/s), decreasing on [20, 150] (lambda1' < 0 there: faster shrinks more), from
@@ -263,4 +263,4 @@ TEST(SpeedRampSheet, FitsTheCurveAndTheSetsKeepTheirSpeed) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::speed_curve_test

@@ -12,7 +12,7 @@
 #include "material/material.h"
 #include "test_support.h"
 
-namespace flatmorph {
+namespace flatmorph::thickness_curve_test {
 namespace {
 
 // A monotone quartic over [0.08, 0.28] mm, lambda1 from 0.58 to 0.80 (thin layers shrink more).
@@ -155,4 +155,4 @@ TEST(ThicknessCurve, MaterialFilesRefuseABadCurve) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::thickness_curve_test

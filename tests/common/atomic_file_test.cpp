@@ -8,7 +8,7 @@
 #include "common/error.h"
 #include "test_support.h"
 
-namespace flatmorph {
+namespace flatmorph::atomic_file_test {
 namespace {
 
 TEST(AtomicFile, WritesCompleteFile) {
@@ -44,4 +44,4 @@ TEST(AtomicFile, ReportsMissingFolderAsUserError) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::atomic_file_test

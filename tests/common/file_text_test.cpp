@@ -10,7 +10,7 @@
 #include "common/error.h"
 #include "test_support.h"
 
-namespace flatmorph {
+namespace flatmorph::file_text_test {
 namespace {
 
 UserError error_of(const std::function<void()>& f) {
@@ -66,4 +66,4 @@ TEST(FileText, TheSizeCheckSeesTheSizeFirst) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::file_text_test

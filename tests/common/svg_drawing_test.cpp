@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-namespace flatmorph {
+namespace flatmorph::svg_drawing_test {
 namespace {
 
 struct Seen {
@@ -169,4 +169,4 @@ TEST(SvgDrawing, ProblemsNameTheLine) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::svg_drawing_test

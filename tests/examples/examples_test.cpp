@@ -12,7 +12,7 @@
 #include "mesh/operators.h"
 #include "mesh/topology.h"
 
-namespace flatmorph {
+namespace flatmorph::examples_test {
 namespace {
 
 // The documented footprint diameter of each example (mm), from the descriptions.
@@ -213,4 +213,4 @@ TEST(Examples, UnknownNameListsTheValidOnes) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::examples_test

@@ -10,7 +10,7 @@
 #include "common/error.h"
 #include "mesh/topology.h"
 
-namespace flatmorph {
+namespace flatmorph::height_field_examples_test {
 namespace {
 
 // Interior vertices higher than every neighbour.
@@ -146,4 +146,4 @@ TEST(HeightFieldExamples, RefusesUnknownNamesAndBadSizes) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::height_field_examples_test

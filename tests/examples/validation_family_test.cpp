@@ -13,7 +13,7 @@
 #include "mesh/operators.h"
 #include "mesh/topology.h"
 
-namespace flatmorph {
+namespace flatmorph::validation_family_test {
 namespace {
 
 // 2 pi minus the angles around vertex v (an interior vertex): the integral of the Gaussian
@@ -123,4 +123,4 @@ TEST(ValidationFamily, IsTheSameOnEveryCall) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::validation_family_test

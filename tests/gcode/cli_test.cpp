@@ -10,7 +10,7 @@
 #include "gcode_fixtures.h"
 #include "test_support.h"
 
-namespace flatmorph {
+namespace flatmorph::cli_test {
 namespace {
 
 using testing::run_cli;
@@ -109,4 +109,4 @@ TEST(CliCheck, BadArguments) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::cli_test

@@ -11,7 +11,7 @@
 #include "plate/layer_stack.h"
 #include "plate/plate_fixtures.h"
 
-namespace flatmorph {
+namespace flatmorph::deposited_plate_test {
 namespace {
 
 constexpr double kWidth = 0.4;
@@ -290,4 +290,4 @@ TEST(FootprintPlate, MeshesTheCellsUnderTheFirstLayer) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::deposited_plate_test

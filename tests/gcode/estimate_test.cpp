@@ -6,7 +6,7 @@
 #include <cmath>
 #include <vector>
 
-namespace flatmorph {
+namespace flatmorph::estimate_test {
 namespace {
 
 MotionLimits limits(double accel, CorneringModel model = CorneringModel::kJunctionDeviation) {
@@ -121,4 +121,4 @@ TEST(Estimate, DurationInPrusaSlicersForm) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::estimate_test

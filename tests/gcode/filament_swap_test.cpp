@@ -23,7 +23,7 @@
 #include "gcode_replay.h"
 #include "test_support.h"
 
-namespace flatmorph {
+namespace flatmorph::filament_swap_test {
 namespace {
 
 using nlohmann::json;
@@ -388,4 +388,4 @@ TEST(MaterialFiles, OneFilePerRunOfAMaterial) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::filament_swap_test

@@ -15,7 +15,7 @@
 #include "gcode_fixtures.h"
 #include "test_support.h"
 
-namespace flatmorph {
+namespace flatmorph::gcode_check_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -214,4 +214,4 @@ TEST(GcodeCheck, TheWriterBlamesAnUnsafeProfile) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::gcode_check_test

@@ -17,7 +17,7 @@
 #include "gcode/gcode_writer.h"
 #include "gcode_fixtures.h"
 
-namespace flatmorph {
+namespace flatmorph::gcode_deposition_test {
 namespace {
 
 constexpr double kArea = std::numbers::pi * 1.75 * 1.75 / 4;  // mm², 1.75 mm filament
@@ -705,4 +705,4 @@ TEST(GcodeDepositionHostile, EBeforeAnyModeIsAbsolute) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::gcode_deposition_test

@@ -21,7 +21,7 @@
 #include "simulate/shape_fits.h"
 #include "test_support.h"
 
-namespace flatmorph {
+namespace flatmorph::gcode_prediction_test {
 namespace {
 
 using Polyline = std::vector<Eigen::Vector2d>;
@@ -256,4 +256,4 @@ TEST(GcodePrediction, ArcsRelativeEAndRetractionsGiveTheStackOfTheirSegmentTwin)
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::gcode_prediction_test

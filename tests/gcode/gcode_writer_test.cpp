@@ -17,7 +17,7 @@
 #include "gcode_replay.h"
 #include "test_support.h"
 
-namespace flatmorph {
+namespace flatmorph::gcode_writer_test {
 namespace {
 
 using testing::disk_toolpath;
@@ -438,4 +438,4 @@ TEST(GcodeWriter, TemplatesGetThePrintArea) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::gcode_writer_test

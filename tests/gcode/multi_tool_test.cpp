@@ -20,7 +20,7 @@
 #include "gcode_replay.h"
 #include "test_support.h"
 
-namespace flatmorph {
+namespace flatmorph::multi_tool_test {
 namespace {
 
 using testing::read_gcode;
@@ -422,4 +422,4 @@ TEST(MultiTool, CliChecksOneMaterialPerTool) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::multi_tool_test

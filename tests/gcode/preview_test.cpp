@@ -10,7 +10,7 @@
 #include "gcode_fixtures.h"
 #include "test_support.h"
 
-namespace flatmorph {
+namespace flatmorph::preview_test {
 namespace {
 
 size_t count(const std::string& text, const std::string& what) {
@@ -184,4 +184,4 @@ TEST(Preview, PngOverviewHasAPanelPerShownLayer) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::preview_test

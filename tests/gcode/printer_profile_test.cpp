@@ -12,7 +12,7 @@
 #include "common/error.h"
 #include "test_support.h"
 
-namespace flatmorph {
+namespace flatmorph::printer_profile_test {
 namespace {
 
 using nlohmann::json;
@@ -227,4 +227,4 @@ TEST(PrinterProfile, ExpandsTemplates) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::printer_profile_test

@@ -19,7 +19,7 @@
 #include "gcode_replay.h"
 #include "test_support.h"
 
-namespace flatmorph {
+namespace flatmorph::tool_change_test {
 namespace {
 
 using testing::read_gcode;
@@ -323,4 +323,4 @@ TEST(SharedNozzle, ProfilesSayHowTheyChange) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::tool_change_test

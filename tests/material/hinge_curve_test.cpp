@@ -14,7 +14,7 @@
 #include "material/material.h"
 #include "test_support.h"
 
-namespace flatmorph {
+namespace flatmorph::hinge_curve_test {
 namespace {
 
 // κ_A(v) = 0.02 + 0.0004 v, κ_B(v) = 0.01 + 0.0002 v − 4e-7 v² (increasing up to 250 mm/s) on
@@ -193,4 +193,4 @@ TEST(HingeCurve, MaterialFileErrorsNameTheKeyAndTheFile) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::hinge_curve_test

@@ -8,7 +8,7 @@
 #include "common/error.h"
 #include "test_support.h"
 
-namespace flatmorph {
+namespace flatmorph::material_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -221,4 +221,4 @@ TEST(Material, UnknownNameListsThePresets) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::material_test

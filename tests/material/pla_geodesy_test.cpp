@@ -14,7 +14,7 @@
 #include "material/material.h"
 #include "material/thickness_curve.h"
 
-namespace flatmorph {
+namespace flatmorph::pla_geodesy_test {
 namespace {
 
 struct Sample {
@@ -119,4 +119,4 @@ TEST(PlaGeodesy, PrintsThePapersSheet) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::pla_geodesy_test

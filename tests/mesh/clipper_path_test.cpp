@@ -4,7 +4,7 @@
 
 #include <algorithm>
 
-namespace flatmorph {
+namespace flatmorph::clipper_path_test {
 namespace {
 
 namespace cl = ClipperLib;
@@ -54,4 +54,4 @@ TEST(ClipperPath, ClipOpenPathCutsAtGapsAndHoles) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::clipper_path_test

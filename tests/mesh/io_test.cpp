@@ -20,7 +20,7 @@
 #include "mesh/io_internal.h"
 #include "test_support.h"
 
-namespace flatmorph {
+namespace flatmorph::io_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -720,4 +720,4 @@ TEST(MeshIoRobustness, TruncationsAndCorruptionsGiveAMeshOrAMeshReadError) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::io_test

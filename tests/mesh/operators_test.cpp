@@ -1,4 +1,5 @@
 #include "mesh/operators.h"
+#include "common/angles.h"
 
 #include <gtest/gtest.h>
 
@@ -12,10 +13,8 @@
 
 #include "mesh/topology.h"
 
-namespace flatmorph {
+namespace flatmorph::operators_test {
 namespace {
-
-constexpr double kPi = std::numbers::pi;
 
 Eigen::MatrixXi flipped(const Eigen::MatrixXi& F) {
   Eigen::MatrixXi G = F;
@@ -394,4 +393,4 @@ TEST(MeshOperators, FaceCurvaturesOfKnownOperator) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::operators_test

@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-namespace flatmorph {
+namespace flatmorph::plane_geometry_test {
 namespace {
 
 using P = Eigen::Vector2d;
@@ -65,4 +65,4 @@ TEST(PlaneGeometry, SegmentIntersectionCrossingTouchingAndApart) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::plane_geometry_test

@@ -5,7 +5,7 @@
 #include <Eigen/Geometry>
 #include <vector>
 
-namespace flatmorph {
+namespace flatmorph::polygon_test {
 namespace {
 
 // A 3 x 2 rectangle: 6 mm² counter-clockwise, −6 clockwise, wherever it lies and however turned.
@@ -109,4 +109,4 @@ TEST(Polygon, TriangulatePolygonCutsASimplePolygonIntoTrianglesOfItsArea) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::polygon_test

@@ -7,7 +7,7 @@
 
 #include "common/error.h"
 
-namespace flatmorph {
+namespace flatmorph::prepare_test {
 namespace {
 
 // A tetrahedron inside the box [10, 14] x [-3, -1] x [7, 8] (extents 4, 2, 1), touching every face.
@@ -87,4 +87,4 @@ TEST(MeshPrepare, ScaleToSizeRejectsBadSizesAndFlatPoints) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::prepare_test

@@ -2,6 +2,7 @@
 // invariants (quality, orientation, Euler characteristic, one piece across joined tiles, rotation),
 // refusals; and the ring frame against a disc's and a square's distance.
 #include "mesh/sheet_mesh.h"
+#include "common/angles.h"
 
 #include <gtest/gtest.h>
 
@@ -16,10 +17,8 @@
 #include "common/error.h"
 #include "mesh/polygon.h"
 
-namespace flatmorph {
+namespace flatmorph::sheet_mesh_test {
 namespace {
-
-constexpr double kPi = std::numbers::pi;
 
 // Directions are lines: compare modulo pi.
 double angle_difference(double a, double b) { return std::abs(std::remainder(a - b, kPi)); }
@@ -451,4 +450,4 @@ TEST(RingFrame, IsRotationInvariant) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::sheet_mesh_test

@@ -11,7 +11,7 @@
 #include "mesh/topology.h"
 #include "mesh/validate.h"
 
-namespace flatmorph {
+namespace flatmorph::subdivide_test {
 namespace {
 
 using testing::grid;
@@ -346,4 +346,4 @@ TEST(MeshSubdivide, ToReachesTheFaceCountInTheFewestSteps) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::subdivide_test

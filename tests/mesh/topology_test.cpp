@@ -2,7 +2,7 @@
 
 #include <gtest/gtest.h>
 
-namespace flatmorph {
+namespace flatmorph::topology_test {
 namespace {
 
 // Two triangles sharing edge (1,2): a square split along its diagonal.
@@ -56,4 +56,4 @@ TEST(Topology, ComponentsAndEuler) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::topology_test

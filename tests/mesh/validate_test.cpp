@@ -13,7 +13,7 @@
 #include "mesh/mesh_fixtures.h"
 #include "mesh/topology.h"
 
-namespace flatmorph {
+namespace flatmorph::validate_test {
 namespace {
 
 using testing::grid;
@@ -586,4 +586,4 @@ TEST(MeshValidate, NeverThrowsOnGarbage) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::validate_test

@@ -4,7 +4,7 @@
 
 #include <functional>
 
-namespace flatmorph {
+namespace flatmorph::autodiff_test {
 namespace {
 
 constexpr int kN = 3;
@@ -108,4 +108,4 @@ TEST(Autodiff, ComparisonsUseValues) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::autodiff_test

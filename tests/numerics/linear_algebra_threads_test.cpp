@@ -10,7 +10,7 @@
 #include "common/error.h"
 #include "test_support.h"
 
-namespace flatmorph {
+namespace flatmorph::linear_algebra_threads_test {
 namespace {
 
 TEST(LinearAlgebraThreads, MoreThreadsMustBeClearlyFaster) {
@@ -84,4 +84,4 @@ TEST(LinearAlgebraThreads, SetsOpenBlasThreads) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::linear_algebra_threads_test

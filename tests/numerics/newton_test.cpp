@@ -7,7 +7,7 @@
 
 #include "numerics/psd_projection.h"
 
-namespace flatmorph {
+namespace flatmorph::newton_test {
 namespace {
 
 using Triplets = std::vector<Eigen::Triplet<double>>;
@@ -263,4 +263,4 @@ TEST(Newton, SameInputSameOutputBitForBit) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::newton_test

@@ -11,7 +11,7 @@
 #include <Eigen/Eigenvalues>
 #include <random>
 
-namespace flatmorph {
+namespace flatmorph::psd_projection_test {
 namespace {
 
 template <int N>
@@ -79,4 +79,4 @@ TEST(PsdProjection, DiagonallyDominantShortcutIsExact) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::psd_projection_test

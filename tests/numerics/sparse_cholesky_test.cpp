@@ -8,7 +8,7 @@
 #include <thread>
 #include <vector>
 
-namespace flatmorph {
+namespace flatmorph::sparse_cholesky_test {
 namespace {
 
 // The 1D Laplacian plus the identity on n unknowns (SPD), lower triangle only.
@@ -93,4 +93,4 @@ TEST(SparseCholesky, AnalysesBesideEachOtherGiveTheSameBits) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::sparse_cholesky_test

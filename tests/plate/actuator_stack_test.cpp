@@ -2,6 +2,7 @@
 // stacking cases of Fig. 5, the default hinge curve, and the acceptance check of issue 27: a
 // straight hinge simulated as a layer stack folds to the angle the curve promises within 5°.
 #include "plate/actuator_stack.h"
+#include "common/angles.h"
 
 #include <gtest/gtest.h>
 
@@ -16,10 +17,8 @@
 #include "plate/plate_fixtures.h"
 #include "simulate/simulate.h"
 
-namespace flatmorph {
+namespace flatmorph::actuator_stack_test {
 namespace {
-
-constexpr double kDegree = std::numbers::pi / 180;
 
 // An isotropic layer material without Poisson coupling (ν = 0): the plate then bends along x as
 // the beam Timoshenko analysed, whatever it does along y.
@@ -343,4 +342,4 @@ TEST(ActuatorStack, ACaseBActuatorOnALongHingeFoldsFarLessThanTheDefaultCurvePro
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::actuator_stack_test

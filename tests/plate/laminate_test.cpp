@@ -11,7 +11,7 @@
 #include "plate/layer_stack.h"
 #include "plate/plate_fixtures.h"
 
-namespace flatmorph {
+namespace flatmorph::laminate_test {
 namespace {
 
 Material paper_material() { return Material{}; }  // the defaults are the paper's PLA
@@ -434,4 +434,4 @@ TEST(LayerStack, VertexValuesAverageToFaces) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::laminate_test

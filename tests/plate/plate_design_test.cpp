@@ -15,7 +15,7 @@
 #include "plate/plate_fixtures.h"
 #include "test_support.h"
 
-namespace flatmorph {
+namespace flatmorph::plate_design_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -231,4 +231,4 @@ TEST(PlateDesignCli, ToolpathsAndSimulateUseTheDesignedLayersAndMaterial) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::plate_design_test

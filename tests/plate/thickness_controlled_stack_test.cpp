@@ -13,6 +13,7 @@
 #include <numbers>
 #include <stdexcept>
 
+#include "common/angles.h"
 #include "common/error.h"
 #include "mesh/operators.h"
 #include "plate/laminate.h"
@@ -20,15 +21,13 @@
 #include "plate/plate_fixtures.h"
 #include "simulate/simulate.h"
 
-namespace flatmorph {
+namespace flatmorph::thickness_controlled_stack_test {
 namespace {
 
 using testing::disk_plate;
 using testing::embed;
 using testing::rectangle_plate;
 using testing::TestPlate;
-
-constexpr double kPi = std::numbers::pi;
 
 Material geodesy() { return load_material("pla-geodesy"); }
 
@@ -375,4 +374,4 @@ TEST(ThicknessControlledStack, ConcentricRingsRiseIntoTheSurfaceOfRevolutionOfTh
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::thickness_controlled_stack_test

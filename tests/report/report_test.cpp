@@ -22,7 +22,7 @@
 // After Eigen: httplib.h brings <resolv.h>, whose _res macro breaks Eigen's headers.
 #include <httplib.h>
 
-namespace flatmorph {
+namespace flatmorph::report_test {
 namespace {
 
 using testing::run_cli;
@@ -235,4 +235,4 @@ TEST(ReportView, ServesTheViewerOnLoopback) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::report_test

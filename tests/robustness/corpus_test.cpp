@@ -12,7 +12,7 @@
 
 #include "test_support.h"
 
-namespace flatmorph {
+namespace flatmorph::corpus_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -308,4 +308,4 @@ TEST(Robustness, EveryHostileInputIsRefusedWithOneLineAndNoOutput) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::corpus_test

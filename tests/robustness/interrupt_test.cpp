@@ -16,7 +16,7 @@
 
 #include "test_support.h"
 
-namespace flatmorph {
+namespace flatmorph::interrupt_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -122,4 +122,4 @@ TEST(Interrupt, SigintAtAnyMomentOfToolpathsLeavesOnlyCompleteFiles) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::interrupt_test

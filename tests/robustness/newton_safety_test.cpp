@@ -7,7 +7,7 @@
 
 #include "numerics/newton.h"
 
-namespace flatmorph {
+namespace flatmorph::newton_safety_test {
 namespace {
 
 // A one-variable problem from the energy, its derivative and its second derivative.
@@ -105,4 +105,4 @@ TEST(NewtonSafety, TheIterationLimitSaysSoAndReturnsTheBestState) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::newton_safety_test

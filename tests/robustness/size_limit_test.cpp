@@ -12,7 +12,7 @@
 #include "common/memory.h"
 #include "test_support.h"
 
-namespace flatmorph {
+namespace flatmorph::size_limit_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -101,4 +101,4 @@ TEST(SizeLimit, AMillionFaceFileIsReadOrRefusedByItsSize) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::size_limit_test

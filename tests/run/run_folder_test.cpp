@@ -14,7 +14,7 @@
 #include "plate/plate_fixtures.h"
 #include "test_support.h"
 
-namespace flatmorph {
+namespace flatmorph::run_folder_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -105,4 +105,4 @@ TEST(RunFolder, ARerunWithoutGcodeLeavesNoGcodeOfTheEarlierRun) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::run_folder_test

@@ -19,7 +19,7 @@
 #include "material/material.h"
 #include "test_support.h"
 
-namespace flatmorph {
+namespace flatmorph::run_pipeline_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -178,4 +178,4 @@ TEST(RunPipelineFolder, ACancelStopsTheRunAndLeavesTheFolderAsItWas) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::run_pipeline_test

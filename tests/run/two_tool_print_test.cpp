@@ -11,7 +11,7 @@
 #include "plate/plate_fixtures.h"
 #include "run/print_plan.h"
 
-namespace flatmorph {
+namespace flatmorph::two_tool_print_test {
 namespace {
 
 TEST(TwoToolPrint, EachLayerPrintsWithItsMaterialsTool) {
@@ -21,8 +21,8 @@ TEST(TwoToolPrint, EachLayerPrintsWithItsMaterialsTool) {
   design.plate = p.V;
   design.F = p.F;
   const Material pla = load_material("pla-paper"), tpu = load_material("tpu-generic");
-  design.stack = shrink_morph_layer_stack(Eigen::VectorXd::Zero(nf), Eigen::VectorXd::Zero(nf),
-                                          pla, 4, pla.layer_height);
+  design.stack = shrink_morph_layer_stack(Eigen::VectorXd::Zero(nf), Eigen::VectorXd::Zero(nf), pla,
+                                          4, pla.layer_height);
   // A TPU layer on the bed and one in the middle: PLA actuators on a soft skin.
   design.stack.materials.push_back(tpu);
   for (int k : {0, 2}) design.stack.layers[k] = uniform_layer(nf, 1, tpu, 0.12);
@@ -46,4 +46,4 @@ TEST(TwoToolPrint, EachLayerPrintsWithItsMaterialsTool) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::two_tool_print_test

@@ -17,7 +17,7 @@
 #include "simulate/distance.h"
 #include "simulate/simulate.h"
 
-namespace flatmorph {
+namespace flatmorph::adjoint_design_test {
 namespace {
 
 using testing::rectangle_plate;
@@ -172,4 +172,4 @@ TEST(AdjointDesign, KeepsTheVariablesWithinTheirBounds) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::adjoint_design_test

@@ -6,7 +6,7 @@
 
 #include <Eigen/Geometry>
 
-namespace flatmorph {
+namespace flatmorph::distance_test {
 namespace {
 
 // Stacked coordinates (x0, y0, z0, x1, ...) of a #V x 3 shape.
@@ -57,4 +57,4 @@ TEST(WeightedRigidFit, FitsTheHeavyVertices) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::distance_test

@@ -17,7 +17,7 @@
 #include "plate/laminate.h"
 #include "plate/plate_fixtures.h"
 
-namespace flatmorph {
+namespace flatmorph::plate_energy_test {
 namespace {
 
 using testing::embed;
@@ -296,4 +296,4 @@ TEST(PlateEnergy, ClockwisePlateFacesAreUserErrors) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::plate_energy_test

@@ -22,7 +22,7 @@
 #include "simulate/distance.h"
 #include "simulate/shape_fits.h"
 
-namespace flatmorph {
+namespace flatmorph::simulate_test {
 namespace {
 
 using testing::disk_plate;
@@ -604,4 +604,4 @@ TEST(ShapeDistance, MatchesHandComputedValues) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::simulate_test

@@ -18,7 +18,7 @@
 #include "toolpath/layer_paths.h"
 #include "toolpath/path_quality.h"
 
-namespace flatmorph {
+namespace flatmorph::designs_test {
 namespace {
 
 struct DesignResult {
@@ -83,4 +83,4 @@ TEST(DesignPaths, BuiltInExamples) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::designs_test

@@ -11,12 +11,12 @@
 #include "toolpath/stripe_patterns.h"
 #include "toolpath/test_plates.h"
 
-namespace flatmorph {
+namespace flatmorph::isolines_test {
 namespace {
 
 TEST(StripeIsolines, PathsPassForksAndOnlyTheNewBranchEnds) {
   const double spacing = 0.4, radius = 15;
-  const testing::TestPlate coarse = testing::disk_plate(2 * radius, 1.2);
+  const toolpath_testing::TestPlate coarse = toolpath_testing::disk_plate(2 * radius, 1.2);
   // Edges about twice the spacing: the phase winds about twice along each edge.
   const RefinedPlate plate = refine_plate(coarse.V, coarse.F, 2 * spacing);
   const EdgeTopology topology = edge_topology(plate.F);
@@ -47,4 +47,4 @@ TEST(StripeIsolines, PathsPassForksAndOnlyTheNewBranchEnds) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::isolines_test

@@ -1,6 +1,7 @@
 // Acceptance checks of issue 6 for the trajectories: per layer (a) spacing, (b) coverage,
 // (c) inside the plate, (d) alignment with theta^k, on synthetic fields over procedural plates.
 #include "toolpath/layer_paths.h"
+#include "common/angles.h"
 
 #include <gtest/gtest.h>
 
@@ -17,17 +18,15 @@
 #include "toolpath/path_quality.h"
 #include "toolpath/test_plates.h"
 
-namespace flatmorph {
+namespace flatmorph::layer_paths_test {
 namespace {
 
-using testing::disk_plate;
-using testing::Field;
-using testing::per_face;
-using testing::per_vertex;
-using testing::rectangle_plate;
-using testing::TestPlate;
-
-constexpr double kPi = std::numbers::pi;
+using toolpath_testing::disk_plate;
+using toolpath_testing::Field;
+using toolpath_testing::per_face;
+using toolpath_testing::per_vertex;
+using toolpath_testing::rectangle_plate;
+using toolpath_testing::TestPlate;
 
 // The stripe options plus the stack a test prints: num_layers layers of layer_height mm of the
 // paper's PLA along theta1 and theta2 (per vertex, averaged to faces) by the stack builder.
@@ -470,4 +469,4 @@ TEST(LayerPaths, PerimeterLoops) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::layer_paths_test

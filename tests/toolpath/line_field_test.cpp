@@ -1,6 +1,7 @@
 // Per-layer directions as line fields: doubled-angle averaging, the layer formula and its sign
 // convention, singularity indices, interpolation.
 #include "toolpath/line_field.h"
+#include "common/angles.h"
 
 #include <gtest/gtest.h>
 
@@ -9,11 +10,8 @@
 
 #include "toolpath/test_plates.h"
 
-namespace flatmorph {
+namespace flatmorph::line_field_test {
 namespace {
-
-constexpr double kPi = std::numbers::pi;
-constexpr double kDeg = kPi / 180;
 
 TEST(LineField, AveragesDoubledAnglesNotNumbers) {
   // Two triangles of equal area sharing a vertex, printed at -89 and +89 degrees: the same line
@@ -23,11 +21,11 @@ TEST(LineField, AveragesDoubledAnglesNotNumbers) {
   Eigen::MatrixXi F(2, 3);
   F << 0, 1, 2, 0, 2, 3;
   Eigen::VectorXd theta(2);
-  theta << -89 * kDeg, 89 * kDeg;
+  theta << -89 * kDegree, 89 * kDegree;
   const Eigen::VectorXd vertex = line_field_angle(face_to_vertex_line_field(V, F, theta));
   EXPECT_NEAR(line_angle_difference(vertex(0), kPi / 2), 0, 1e-12);
-  EXPECT_NEAR(line_angle_difference(vertex(1), -89 * kDeg), 0, 1e-12);  // only the first face
-  EXPECT_NEAR(line_angle_difference(vertex(3), 89 * kDeg), 0, 1e-12);
+  EXPECT_NEAR(line_angle_difference(vertex(1), -89 * kDegree), 0, 1e-12);  // only the first face
+  EXPECT_NEAR(line_angle_difference(vertex(3), 89 * kDegree), 0, 1e-12);
 }
 
 TEST(LineField, AreaWeighted) {
@@ -38,17 +36,17 @@ TEST(LineField, AreaWeighted) {
   Eigen::MatrixXi F(2, 3);
   F << 0, 1, 2, 0, 2, 3;
   Eigen::VectorXd theta(2);
-  theta << 0, 60 * kDeg;
+  theta << 0, 60 * kDegree;
   const Eigen::VectorXd vertex = line_field_angle(face_to_vertex_line_field(V, F, theta));
-  const double expected = 0.5 * std::arg(0.5 + 1.5 * std::polar(1.0, 120 * kDeg));
+  const double expected = 0.5 * std::arg(0.5 + 1.5 * std::polar(1.0, 120 * kDegree));
   EXPECT_NEAR(vertex(0), expected, 1e-12);
 }
 
 TEST(LineField, DoubledIndexFindsSingularities) {
-  const testing::TestPlate plate = testing::disk_plate(20, 2.0);
-  const auto count = [&](const testing::Field& field, int expected_value) {
+  const toolpath_testing::TestPlate plate = toolpath_testing::disk_plate(20, 2.0);
+  const auto count = [&](const toolpath_testing::Field& field, int expected_value) {
     const Eigen::VectorXi index =
-        line_field_doubled_index(plate.F, testing::per_vertex(plate, field));
+        line_field_doubled_index(plate.F, toolpath_testing::per_vertex(plate, field));
     int nonzero = 0, total = 0;
     for (int f = 0; f < index.size(); ++f) {
       if (index(f) != 0) {
@@ -67,19 +65,20 @@ TEST(LineField, DoubledIndexFindsSingularities) {
   count([](double x, double y) { return -0.5 * std::atan2(y - 0.3, x - 0.2); }, -1);
   // A smooth field: none.
   const Eigen::VectorXi smooth = line_field_doubled_index(
-      plate.F, testing::per_vertex(plate, [](double x, double y) { return 0.05 * x + 0.03 * y; }));
+      plate.F,
+      toolpath_testing::per_vertex(plate, [](double x, double y) { return 0.05 * x + 0.03 * y; }));
   EXPECT_EQ(smooth.cwiseAbs().sum(), 0);
 }
 
 TEST(LineField, InterpolationAndAngleDifference) {
   // Halfway between 80 and -80 degrees (as lines 20 degrees apart across the vertical) is 90.
-  const double mid =
-      interpolate_line_field(80 * kDeg, -80 * kDeg, -80 * kDeg, Eigen::Vector3d(0.5, 0.25, 0.25));
-  EXPECT_NEAR(line_angle_difference(mid, 90 * kDeg), 0, 1e-12);
-  EXPECT_NEAR(line_angle_difference(10 * kDeg, 190 * kDeg), 0, 1e-12);
-  EXPECT_NEAR(line_angle_difference(0, 100 * kDeg), 80 * kDeg, 1e-12);
-  EXPECT_NEAR(line_angle_difference(0, 90 * kDeg), 90 * kDeg, 1e-12);
+  const double mid = interpolate_line_field(80 * kDegree, -80 * kDegree, -80 * kDegree,
+                                            Eigen::Vector3d(0.5, 0.25, 0.25));
+  EXPECT_NEAR(line_angle_difference(mid, 90 * kDegree), 0, 1e-12);
+  EXPECT_NEAR(line_angle_difference(10 * kDegree, 190 * kDegree), 0, 1e-12);
+  EXPECT_NEAR(line_angle_difference(0, 100 * kDegree), 80 * kDegree, 1e-12);
+  EXPECT_NEAR(line_angle_difference(0, 90 * kDegree), 90 * kDegree, 1e-12);
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::line_field_test

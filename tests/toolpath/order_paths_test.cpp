@@ -7,7 +7,7 @@
 #include <algorithm>
 #include <cstdint>
 
-namespace flatmorph {
+namespace flatmorph::order_paths_test {
 namespace {
 
 // Deterministic pseudo-random numbers in [0, 1) (a fixed linear congruential generator).
@@ -116,4 +116,4 @@ TEST(OrderPaths, EmptyAndSingle) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::order_paths_test

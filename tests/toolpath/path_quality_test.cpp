@@ -8,7 +8,7 @@
 
 #include "toolpath/test_plates.h"
 
-namespace flatmorph {
+namespace flatmorph::path_quality_test {
 namespace {
 
 // Straight lines across the 20 x 10 mm rectangle at angle `angle` (rad), `pitch` mm apart.
@@ -34,7 +34,7 @@ std::vector<PathPolyline> lines(double pitch, double angle = 0, double y_offset 
 }
 
 TEST(PathQuality, PerfectLines) {
-  const testing::TestPlate plate = testing::rectangle_plate(20, 10, 1.0);
+  const toolpath_testing::TestPlate plate = toolpath_testing::rectangle_plate(20, 10, 1.0);
   const Eigen::VectorXd theta = Eigen::VectorXd::Zero(plate.V.rows());
   PathQualityOptions options;
   const PathQuality q = evaluate_path_quality(plate.V, plate.F, theta, lines(0.4), {}, options);
@@ -52,7 +52,7 @@ TEST(PathQuality, SparseLinesLeaveGaps) {
   // Lines 2 spacings apart (y = -4.6 + 0.8 k, k = 0..11): each covers a band 1.2 spacings =
   // 0.48 mm wide, 12 x 0.48 / 10 of the plate; the nearest other line is 2 spacings away, out of
   // the accepted band.
-  const testing::TestPlate plate = testing::rectangle_plate(20, 10, 1.0);
+  const toolpath_testing::TestPlate plate = toolpath_testing::rectangle_plate(20, 10, 1.0);
   const Eigen::VectorXd theta = Eigen::VectorXd::Zero(plate.V.rows());
   const PathQuality q =
       evaluate_path_quality(plate.V, plate.F, theta, lines(0.8), {}, PathQualityOptions{});
@@ -61,7 +61,7 @@ TEST(PathQuality, SparseLinesLeaveGaps) {
 }
 
 TEST(PathQuality, MisalignedLinesAndSingularExclusion) {
-  const testing::TestPlate plate = testing::rectangle_plate(20, 10, 1.0);
+  const toolpath_testing::TestPlate plate = toolpath_testing::rectangle_plate(20, 10, 1.0);
   const Eigen::VectorXd theta =
       Eigen::VectorXd::Constant(plate.V.rows(), 5 * std::numbers::pi / 180);
   const PathQuality q =
@@ -78,7 +78,7 @@ TEST(PathQuality, MisalignedLinesAndSingularExclusion) {
 }
 
 TEST(PathQuality, PointsOutsideThePlate) {
-  const testing::TestPlate plate = testing::rectangle_plate(20, 10, 1.0);
+  const toolpath_testing::TestPlate plate = toolpath_testing::rectangle_plate(20, 10, 1.0);
   const Eigen::VectorXd theta = Eigen::VectorXd::Zero(plate.V.rows());
   std::vector<PathPolyline> paths = lines(0.4);
   paths[0].points(0, 0) -= 0.5;  // 0.5 mm beyond the left edge
@@ -91,7 +91,7 @@ TEST(PathQuality, PointsOutsideThePlate) {
 
 TEST(PathQuality, SpiralTurnsAreNeighbours) {
   // One Archimedean spiral with a pitch of one spacing: its own next turn is its neighbour.
-  const testing::TestPlate plate = testing::disk_plate(20, 1.0);
+  const toolpath_testing::TestPlate plate = toolpath_testing::disk_plate(20, 1.0);
   PathPolyline spiral;
   const int n = 20000;
   spiral.points.resize(n, 3);
@@ -113,4 +113,4 @@ TEST(PathQuality, SpiralTurnsAreNeighbours) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::path_quality_test

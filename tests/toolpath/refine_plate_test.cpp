@@ -9,11 +9,11 @@
 #include "mesh/topology.h"
 #include "toolpath/test_plates.h"
 
-namespace flatmorph {
+namespace flatmorph::refine_plate_test {
 namespace {
 
 TEST(RefinePlate, KeepsTheOutlineAndAreaExactly) {
-  const testing::TestPlate plate = testing::disk_plate(20, 3.0);
+  const toolpath_testing::TestPlate plate = toolpath_testing::disk_plate(20, 3.0);
   const RefinedPlate r = refine_plate(plate.V, plate.F, 1.0);
   ASSERT_GE(r.splits, 3);  // not a power of two: the general lattice
   EXPECT_EQ(r.F.rows(), plate.F.rows() * r.splits * r.splits);
@@ -56,7 +56,7 @@ TEST(RefinePlate, KeepsTheOutlineAndAreaExactly) {
 }
 
 TEST(RefinePlate, InterpolationMatrixIsExactForLinearFields) {
-  const testing::TestPlate plate = testing::rectangle_plate(10, 6, 2.0);
+  const toolpath_testing::TestPlate plate = toolpath_testing::rectangle_plate(10, 6, 2.0);
   const RefinedPlate r = refine_plate(plate.V, plate.F, 0.6);
   ASSERT_GE(r.splits, 4);
   EXPECT_LT((r.S * plate.V - r.V).cwiseAbs().maxCoeff(), 1e-12);
@@ -72,14 +72,14 @@ TEST(RefinePlate, InterpolationMatrixIsExactForLinearFields) {
 }
 
 TEST(RefinePlate, NoSplitWhenEdgesAreShortEnough) {
-  const testing::TestPlate plate = testing::rectangle_plate(4, 4, 1.0);
+  const toolpath_testing::TestPlate plate = toolpath_testing::rectangle_plate(4, 4, 1.0);
   const RefinedPlate r = refine_plate(plate.V, plate.F, 2.0);
   EXPECT_EQ(r.splits, 1);
   EXPECT_EQ(r.F, plate.F);
 }
 
 TEST(RefinePlate, RejectsBadRequests) {
-  const testing::TestPlate plate = testing::rectangle_plate(4, 4, 1.0);
+  const toolpath_testing::TestPlate plate = toolpath_testing::rectangle_plate(4, 4, 1.0);
   try {
     refine_plate(plate.V, plate.F, 0.0);
     FAIL() << "expected UserError";
@@ -95,4 +95,4 @@ TEST(RefinePlate, RejectsBadRequests) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::refine_plate_test

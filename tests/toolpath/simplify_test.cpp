@@ -5,7 +5,7 @@
 
 #include <cmath>
 
-namespace flatmorph {
+namespace flatmorph::simplify_test {
 namespace {
 
 double distance_to_polyline(const Eigen::Vector2d& p, const Eigen::MatrixXd& P) {
@@ -53,4 +53,4 @@ TEST(Simplify, KeepsACorner) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::simplify_test

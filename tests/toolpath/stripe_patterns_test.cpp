@@ -1,6 +1,7 @@
 // Stripe patterns on fields whose exact stripes are known: a constant direction has the stripes
 // e^{i nu <X, x>}, of zero energy, whatever the sign of X chosen at each vertex.
 #include "toolpath/stripe_patterns.h"
+#include "common/angles.h"
 
 #include <gtest/gtest.h>
 
@@ -10,10 +11,8 @@
 #include "toolpath/refine_plate.h"
 #include "toolpath/test_plates.h"
 
-namespace flatmorph {
+namespace flatmorph::stripe_patterns_test {
 namespace {
-
-constexpr double kTwoPi = 2 * std::numbers::pi;
 
 struct Refined {
   RefinedPlate plate;
@@ -21,7 +20,7 @@ struct Refined {
 };
 
 Refined refined_rectangle() {
-  const testing::TestPlate coarse = testing::rectangle_plate(12, 8, 1.0);
+  const toolpath_testing::TestPlate coarse = toolpath_testing::rectangle_plate(12, 8, 1.0);
   Refined r;
   r.plate = refine_plate(coarse.V, coarse.F, 0.4);
   r.topology = edge_topology(r.plate.F);
@@ -100,4 +99,4 @@ TEST(StripePatterns, WarmStartFollowsTheNextField) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::stripe_patterns_test

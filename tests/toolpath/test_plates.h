@@ -8,7 +8,7 @@
 #include <numbers>
 #include <vector>
 
-namespace flatmorph::testing {
+namespace flatmorph::toolpath_testing {
 
 struct TestPlate {
   Eigen::MatrixXd V;  // #V x 2, mm
@@ -105,4 +105,4 @@ inline Eigen::VectorXd per_vertex(const TestPlate& plate, const Field& field) {
   return values;
 }
 
-}  // namespace flatmorph::testing
+}  // namespace flatmorph::toolpath_testing

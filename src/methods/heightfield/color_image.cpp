@@ -15,39 +15,24 @@
 #include "common/error.h"
 #include "common/file_text.h"
 #include "methods/heightfield/gray_image.h"
-
-// Declarations only: the decoder is compiled once, in stb_image_png.cpp.
-#define STBI_NO_STDIO
-#include <stb/stb_image.h>
+#include "methods/heightfield/png_bytes.h"
 
 namespace flatmorph {
 namespace {
 
-// As for height maps (gray_image.cpp): no PNG of at most kMaxGrayImagePixels pixels of 4 channels
-// of 16 bits is larger.
-constexpr std::uintmax_t kMaxFileBytes = 640ULL << 20;
-
-constexpr std::array<unsigned char, 8> kPngSignature = {0x89, 'P',  'N',  'G',
-                                                        '\r', '\n', 0x1a, '\n'};
+using png_bytes::big_endian_32;
+using png_bytes::kMaxFileBytes;
+using png_bytes::kPngSignature;
+using png_bytes::StbFree;
 
 constexpr const char* kExportAgain = "export the texture again as an 8- or 16-bit PNG";
 
 // Coordinates this close outside [0, 1] are float rounding of an edge, not a repeat.
 constexpr double kUvEdgeTolerance = 1e-6;
 
-struct StbFree {
-  void operator()(void* pixels) const { stbi_image_free(pixels); }
-};
-
 [[noreturn]] void refuse(ErrorCategory category, const std::string& source,
                          const std::string& problem) {
   throw UserError(category, fmt::format("{}: {}", source, problem));
-}
-
-uint32_t big_endian_32(std::string_view bytes, size_t at) {
-  uint32_t v = 0;
-  for (size_t k = 0; k < 4; ++k) v = v << 8 | static_cast<unsigned char>(bytes[at + k]);
-  return v;
 }
 
 // What stb_image must not see (as read_gray_png_bytes checks, worded for a texture): no signature,

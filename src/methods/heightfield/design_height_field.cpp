@@ -22,14 +22,6 @@ Eigen::VectorXd corner_mean(const Eigen::MatrixXi& F, const Eigen::VectorXd& ver
   return face_values;
 }
 
-// The material as the optimizer's stack sees it. ShrinkageProblem (optimize_shrinkage.h) has no
-// layer count of its own: its stack prints the thickness curve's count, so the design's count
-// goes in there, and the optimizer simulates the plate that is printed.
-Material with_curve_layers(Material material, std::optional<int> num_layers) {
-  if (num_layers) material.thickness_curve->layers = *num_layers;
-  return material;
-}
-
 }  // namespace
 
 HeightFieldDesign design_height_field(const HeightField& field, const std::string& source,
@@ -102,7 +94,8 @@ HeightFieldDesign design_height_field(const HeightField& field, const std::strin
     problem.F = mesh.F;
     problem.target = mesh.V;
     problem.direction = direction;
-    problem.material = with_curve_layers(material, num_layers);
+    problem.material = material;
+    problem.num_layers = num_layers;
     // The equilibrium the flat sheet reaches: the optimization follows that branch.
     problem.start = design.flattened_prediction.from_flat.V;
     OptimizeShrinkageOptions optimization = options.optimization;

@@ -1,4 +1,5 @@
 #include "methods/heightfield/gray_image.h"
+#include "methods/heightfield/png_bytes.h"
 
 #include <fmt/core.h>
 
@@ -13,26 +14,16 @@
 #include "common/error.h"
 #include "common/file_text.h"
 
-// Declarations only: the decoder is compiled in stb_image_png.cpp.
-#define STBI_NO_STDIO
-#include <stb/stb_image.h>
-
 namespace flatmorph {
 namespace {
 
-// A file larger than this cannot be a PNG of at most kMaxGrayImagePixels pixels of 4 channels of
-// 16 bits (512 MiB uncompressed, and deflate expands incompressible data by well under 1 %).
-constexpr std::uintmax_t kMaxFileBytes = 640ULL << 20;
-
-constexpr std::array<unsigned char, 8> kPngSignature = {0x89, 'P',  'N',  'G',
-                                                        '\r', '\n', 0x1a, '\n'};
+using png_bytes::big_endian_32;
+using png_bytes::kMaxFileBytes;
+using png_bytes::kPngSignature;
+using png_bytes::StbFree;
 
 // Rec. 709 luma weights (they sum to 1, so a gray RGB pixel keeps its value exactly).
 constexpr double kRed = 0.2126, kGreen = 0.7152, kBlue = 0.0722;
-
-struct StbFree {
-  void operator()(void* pixels) const { stbi_image_free(pixels); }
-};
 
 // Gray samples from a decoded image of `channels` channels (1 gray, 2 gray + alpha, 3 RGB, 4 RGBA).
 template <typename Sample>
@@ -48,12 +39,6 @@ std::vector<uint16_t> to_gray(const Sample* pixels, size_t count, int channels, 
     gray[i] = static_cast<uint16_t>(std::min(y, static_cast<double>(max_value)));
   }
   return gray;
-}
-
-uint32_t big_endian_32(std::string_view bytes, size_t at) {
-  uint32_t v = 0;
-  for (size_t k = 0; k < 4; ++k) v = v << 8 | static_cast<unsigned char>(bytes[at + k]);
-  return v;
 }
 
 // Every chunk up to IEND must lie within the file. stb_image sizes its buffers by what the chunk

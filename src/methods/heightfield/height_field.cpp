@@ -14,19 +14,19 @@
 #include <utility>
 #include <vector>
 
+#include "common/angles.h"
 #include "common/error.h"
 #include "mesh/plane_geometry.h"
 #include "mesh/topology.h"
 #include "mesh/validate.h"
 
 namespace flatmorph {
-namespace {
-
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
 std::string at_xy(const Eigen::Vector2d& p) {
   return fmt::format("({:.1f}, {:.1f}) mm", p.x(), p.y());
 }
+
+namespace {
 
 Eigen::Vector2d xy(const Eigen::MatrixXd& V, int v) { return Eigen::Vector2d(V(v, 0), V(v, 1)); }
 

@@ -30,6 +30,9 @@ inline constexpr double kDepressionToleranceMm = 1e-3;
 // The most vertices height_field_from_image makes (a 2000 x 2000 grid).
 inline constexpr long long kMaxHeightFieldVertices = 4'000'000;
 
+// A point of the plate's plane as messages print it: "(x, y) mm", one decimal.
+std::string at_xy(const Eigen::Vector2d& p);
+
 // Throws UserError with one line "<source>: <problem> at (x, y) mm ...; <what to do>" for the first
 // of these it finds, in this order:
 // - the problems of diagnose_mesh other than pieces, closure and holes (empty, NaN, non-manifold,

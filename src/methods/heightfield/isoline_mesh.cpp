@@ -31,6 +31,7 @@
 #include <vector>
 
 #include "common/error.h"
+#include "mesh/plane_geometry.h"
 #include "mesh/topology.h"
 
 namespace flatmorph {
@@ -50,10 +51,6 @@ constexpr double kTopClearance = 0.125;    // no level within Δ/8 below a signi
 constexpr long long kMaxVertices = 5'000'000;
 constexpr double kMinEdgeFraction = 0.25;  // loop vertices at least l_u / 4 apart...
 constexpr double kMinLoopPieces = 16.0;    // ...or a sixteenth of a small loop's perimeter
-
-double cross2(const Vector2d& a, const Vector2d& b) { return a.x() * b.y() - a.y() * b.x(); }
-
-std::string at_xy(const Vector2d& p) { return fmt::format("({:.1f}, {:.1f}) mm", p.x(), p.y()); }
 
 // ---------------------------------------------------------------------------------------------
 // The input surface and walking on it.

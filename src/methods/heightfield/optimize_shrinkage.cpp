@@ -60,12 +60,13 @@ AdjointDesignProblem shrinkage_design_problem(const ShrinkageProblem& problem) {
   design.plate = problem.plate;
   design.F = problem.F;
   design.target = problem.target;
-  design.layer_stack = [&problem, average = face_average_matrix(problem.F, nv)](
-                           const Eigen::VectorXd& sigma) {
-    // Within the range (the optimizer projects), so nothing is clamped and λ1 = 1 − σ exactly.
-    return thickness_controlled_layer_stack(problem.direction, average * sigma, problem.material)
-        .stack;
-  };
+  design.layer_stack =
+      [&problem, average = face_average_matrix(problem.F, nv)](const Eigen::VectorXd& sigma) {
+        // Within the range (the optimizer projects), so nothing is clamped and λ1 = 1 − σ exactly.
+        return thickness_controlled_layer_stack(problem.direction, average * sigma,
+                                                problem.material, problem.num_layers)
+            .stack;
+      };
   design.laminate_derivative = [&curve](const LayerStack& stack) {
     const int nf = stack.num_faces();
     LayerShrinkRates rates;

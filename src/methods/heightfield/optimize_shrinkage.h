@@ -34,6 +34,7 @@
 
 #include <Eigen/Core>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -49,6 +50,8 @@ struct ShrinkageProblem {
   Eigen::MatrixXd target;     // #V x 3, mm, one row per plate vertex
   Eigen::VectorXd direction;  // per face, rad: the deposition direction (deposition_directions)
   Material material;          // with a thickness curve
+  // Layers the plate prints (the design's --layers); none: the thickness curve's calibrated count.
+  std::optional<int> num_layers;
   // Where the first equilibrium is searched from (#V x 3, mm, any rigid placement); empty: the
   // target. The risen shape predicted from the flat sheet (predict_rise's from_flat.V) makes the
   // optimization follow the equilibrium the sheet actually reaches.

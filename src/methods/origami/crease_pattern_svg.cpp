@@ -12,6 +12,7 @@
 #include <queue>
 #include <tuple>
 
+#include "common/angles.h"
 #include "common/error.h"
 #include "common/svg_drawing.h"
 #include "mesh/plane_geometry.h"
@@ -23,14 +24,13 @@ namespace {
 using svg::Element;
 using svg::Point;
 
-constexpr double kPi = std::numbers::pi;
 constexpr double kMaxCoordinate = 1e6;  // mm, as the tile outlines
 
 std::string format_point(const Point& p) {
   return fmt::format("({:.4f}, {:.4f}) mm", p.x(), p.y());
 }
 
-int find_root(std::vector<int>& parent, int i) {
+int component_root(std::vector<int>& parent, int i) {
   while (parent[i] != i) i = parent[i] = parent[parent[i]];
   return i;
 }
@@ -648,9 +648,11 @@ class PatternBuilder {
       std::vector<int> part(a_.points.size());
       std::iota(part.begin(), part.end(), 0);
       for (const Edge& e : a_.edges) {
-        if (e.alive) part[find_root(part, e.u)] = find_root(part, e.v);
+        if (e.alive) part[component_root(part, e.u)] = component_root(part, e.v);
       }
-      const auto part_of = [&](int walk) { return find_root(part, origin(walks_.walks[walk][0])); };
+      const auto part_of = [&](int walk) {
+        return component_root(part, origin(walks_.walks[walk][0]));
+      };
       for (int o : outer) {
         const int h = walks_.walks[o][0];
         const Point p = a_.points[origin(h)];
@@ -785,11 +787,11 @@ class PatternBuilder {
       crease.v1 = vertex[forward ? edge.v : edge.u];
       crease.left = forward ? left : right;
       crease.right = two ? std::max(left, right) : -1;
-      if (two) piece[find_root(piece, left)] = find_root(piece, right);
+      if (two) piece[component_root(piece, left)] = component_root(piece, right);
       out.creases.push_back(crease);
     }
     for (int f = 1; f < out.num_faces(); ++f) {
-      if (find_root(piece, f) != find_root(piece, 0)) {
+      if (component_root(piece, f) != component_root(piece, 0)) {
         throw UserError(ErrorCategory::kTopology,
                         fmt::format("{}: the sheet's faces meet only at corners in places (faces "
                                     "1 and {} are not joined by a crease): it would fall apart; "

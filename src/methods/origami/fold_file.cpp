@@ -1,4 +1,5 @@
 #include "methods/origami/fold_file.h"
+#include "common/angles.h"
 
 #include <nlohmann/json.hpp>
 
@@ -9,8 +10,6 @@ namespace flatmorph {
 namespace {
 
 using Json = nlohmann::ordered_json;
-
-constexpr double kDegreesPerRadian = 180 / std::numbers::pi;
 
 // +0 for −0, so that a coordinate on an axis reads "0.0" whichever side it came from.
 double tidy(double v) { return v + 0.0; }

@@ -10,6 +10,7 @@
 #include <queue>
 #include <stdexcept>
 
+#include "common/angles.h"
 #include "common/markup.h"
 #include "mesh/clipper_path.h"
 #include "mesh/plane_geometry.h"
@@ -18,7 +19,6 @@
 namespace flatmorph {
 namespace {
 
-constexpr double kDegreesPerRadian = 180 / std::numbers::pi;
 constexpr double kMargin = 5;  // mm around the drawing
 
 // Origami Simulator's pattern colours (its pattern importer's typeForStroke).

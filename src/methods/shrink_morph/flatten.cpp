@@ -20,10 +20,6 @@ namespace {
 
 using namespace shrink_morph_internal;
 
-void require_option(bool ok, const std::string& message) {
-  if (!ok) throw UserError(ErrorCategory::kOption, message);
-}
-
 void check_options(const FlattenOptions& o) {
   require_option(std::isfinite(o.lambda1) && std::isfinite(o.lambda2) && o.lambda1 > 0 &&
                      o.lambda2 > 0 && o.lambda1 <= o.lambda2,

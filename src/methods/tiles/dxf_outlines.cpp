@@ -8,6 +8,7 @@
 #include <numbers>
 #include <optional>
 
+#include "common/angles.h"
 #include "common/error.h"
 
 namespace flatmorph {
@@ -18,8 +19,6 @@ using outline_loops::OpenPiece;
 using outline_loops::Origin;
 using outline_loops::Point;
 using outline_loops::printable;
-
-constexpr double kPi = std::numbers::pi;
 
 // One group: a code line and its value line (the line number is the value's).
 struct Pair {

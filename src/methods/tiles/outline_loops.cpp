@@ -12,14 +12,13 @@
 #include <stdexcept>
 #include <tuple>
 
+#include "common/angles.h"
 #include "common/error.h"
 #include "mesh/plane_geometry.h"
 
 namespace flatmorph {
 namespace outline_loops {
 namespace {
-
-constexpr double kPi = std::numbers::pi;
 
 // Segment pairs, cell entries and point-in-loop steps the crossing and nesting checks may spend:
 // a drawing of a few hundred tiles needs well under 1 %, and a hostile one (thousands of loops

@@ -7,6 +7,7 @@
 #include <numbers>
 #include <optional>
 
+#include "common/angles.h"
 #include "common/error.h"
 #include "common/svg_drawing.h"
 
@@ -19,8 +20,6 @@ using outline_loops::Point;
 using svg::Affine;
 using svg::describe;
 using svg::Element;
-
-constexpr double kPi = std::numbers::pi;
 
 // The tiles' shapes: each closed loop in plate mm.
 class OutlineShapes {

@@ -1,4 +1,5 @@
 #include "methods/heightfield/continuous_paths.h"
+#include "common/angles.h"
 
 #include <gtest/gtest.h>
 
@@ -24,7 +25,7 @@
 #include "methods/heightfield/shrinkage_field.h"
 #include "toolpath/path_quality.h"
 
-namespace flatmorph {
+namespace flatmorph::continuous_paths_test {
 namespace {
 
 // The paths of a sheet whose printing edges shrink by `edge_shrinkage`, spread over the vertices
@@ -35,8 +36,6 @@ ContinuousPaths paths_from_edges(const IsolineMesh& mesh, const Eigen::MatrixXd&
   return continuous_paths(mesh, plate, vertex_shrinkage(mesh, plate.leftCols(2), edge_shrinkage),
                           material, options);
 }
-
-constexpr double kPi = std::numbers::pi;
 
 // --- Printing graphs built from closed rings (isolines), zipped into triangles by angle around
 // a centre, with fans at patch centres: the structure of isoline_mesh.h without the isoline
@@ -772,4 +771,4 @@ TEST(ContinuousPaths, CapPrintingGraphIsOneTrace) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::continuous_paths_test

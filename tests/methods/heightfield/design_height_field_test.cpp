@@ -19,7 +19,7 @@
 #include "simulate/distance.h"
 #include "test_support.h"
 
-namespace flatmorph {
+namespace flatmorph::design_height_field_test {
 namespace {
 
 // One design shared by the tests below: a 100 mm hill, 22 mm high (the default's proportions).
@@ -173,4 +173,4 @@ TEST(DesignHeightField, ACheckerboardKeepsItsSquaresAreasThroughTheRise) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::design_height_field_test

@@ -13,7 +13,7 @@
 #include "raster/raster.h"
 #include "test_support.h"
 
-namespace flatmorph {
+namespace flatmorph::gray_image_test {
 namespace {
 
 using testing::encode_test_png;
@@ -216,4 +216,4 @@ TEST(GrayImage, DirectoryIsAFileError) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::gray_image_test

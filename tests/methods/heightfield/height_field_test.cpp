@@ -14,7 +14,7 @@
 #include "methods/heightfield/png_fixtures.h"
 #include "test_support.h"
 
-namespace flatmorph {
+namespace flatmorph::height_field_test {
 namespace {
 
 using testing::grid_mesh;
@@ -460,4 +460,4 @@ TEST(HeightFieldFromImage, RefusesBadSizesAndTinyImages) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::height_field_test

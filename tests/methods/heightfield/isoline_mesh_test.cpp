@@ -18,7 +18,7 @@
 #include "mesh/topology.h"
 #include "methods/heightfield/gray_image.h"
 
-namespace flatmorph {
+namespace flatmorph::isoline_mesh_test {
 namespace {
 
 double cross2(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
@@ -519,4 +519,4 @@ TEST(IsolineMesh, RefusesBadOptions) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::isoline_mesh_test

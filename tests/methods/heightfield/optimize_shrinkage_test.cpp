@@ -13,7 +13,7 @@
 #include "plate/laminate.h"
 #include "plate/layer_stack.h"
 
-namespace flatmorph {
+namespace flatmorph::optimize_shrinkage_test {
 namespace {
 
 using testing::cap_material;
@@ -251,4 +251,4 @@ TEST(OptimizeShrinkage, StartsFromTheExactFlatteningAndImprovesOnIt) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::optimize_shrinkage_test

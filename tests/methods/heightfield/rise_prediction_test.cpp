@@ -13,7 +13,7 @@
 #include "plate/layer_stack.h"
 #include "test_support.h"
 
-namespace flatmorph {
+namespace flatmorph::rise_prediction_test {
 namespace {
 
 using testing::cap_material;
@@ -256,4 +256,4 @@ TEST(PredictRise, MirroringOrTurningThePlateMirrorsOrTurnsTheShape) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::rise_prediction_test

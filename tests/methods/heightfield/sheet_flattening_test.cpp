@@ -2,6 +2,7 @@
 // and a spherical cap meshed as rings joined by bridges), its invariances, the choices between the
 // paper's terms (shear or straightness, the relocations), and the built-in height fields.
 #include "methods/heightfield/sheet_flattening.h"
+#include "common/angles.h"
 
 #include <gtest/gtest.h>
 
@@ -18,10 +19,8 @@
 #include "examples/height_field_examples.h"
 #include "methods/heightfield/isoline_mesh.h"
 
-namespace flatmorph {
+namespace flatmorph::sheet_flattening_test {
 namespace {
-
-constexpr double kPi = std::numbers::pi;
 
 // A printing graph of rings: ring i (0 = the boundary, counter-clockwise seen from +z) has
 // counts[i] vertices at ring(i, 2πj / counts[i]); neighbouring rings are zipped by angle (a cell
@@ -495,4 +494,4 @@ TEST(SheetFlattening, PaperSpreadingSpoilsTheRidge) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::sheet_flattening_test

@@ -20,7 +20,7 @@
 #include "methods/heightfield/png_fixtures.h"
 #include "test_support.h"
 
-namespace flatmorph {
+namespace flatmorph::texture_test {
 namespace {
 
 using testing::encode_test_png;
@@ -563,4 +563,4 @@ TEST(Checkerboard, DomeKeepsItsSquaresAndAWrongPlateDoesNot) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::texture_test

@@ -2,6 +2,7 @@
 // general corner rule (convex, non-convex, a hinge ending on a straight side), the shifts adding up
 // along the tree, and the refusals with what would fix them.
 #include "methods/origami/actuators.h"
+#include "common/angles.h"
 
 #include <gtest/gtest.h>
 
@@ -12,15 +13,12 @@
 #include "mesh/polygon.h"
 #include "methods/origami/origami_fixtures.h"
 
-namespace flatmorph {
+namespace flatmorph::actuators_test {
 namespace {
 
 using testing::drawn_sheet;
 using testing::example_sheet;
 using testing::hinges_of;
-
-constexpr double kPi = std::numbers::pi;
-constexpr double kDegree = kPi / 180;
 
 // Rows of notes §4's table for r = 5 mm: |θ| in degrees, W, L, δ in mm (three decimals).
 struct Row {
@@ -286,4 +284,4 @@ TEST(Actuators, TheHoleAtACubesCornerIsHalfLTimesRootThree) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::actuators_test

@@ -4,6 +4,7 @@
 // mirrored; lines are cut at crossings and T-junctions; every bad drawing is a UserError naming
 // its line.
 #include "methods/origami/crease_pattern_svg.h"
+#include "common/angles.h"
 
 #include <fmt/core.h>
 #include <gtest/gtest.h>
@@ -20,11 +21,8 @@
 #include "methods/origami/net_svg.h"
 #include "methods/origami/unfold.h"
 
-namespace flatmorph {
+namespace flatmorph::crease_pattern_svg_test {
 namespace {
-
-constexpr double kPi = std::numbers::pi;
-constexpr double kDegree = kPi / 180;
 
 CreasePattern net_of(const std::string& solid) {
   return crease_pattern_of_net(unfold(polyhedron_example(solid, 20)), 0, "net 1", kDegree);
@@ -456,4 +454,4 @@ TEST(CreasePatternSvg, CategoriesAndOptions) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::crease_pattern_svg_test

@@ -10,7 +10,7 @@
 #include "examples/origami_examples.h"
 #include "mesh/polygon.h"
 
-namespace flatmorph {
+namespace flatmorph::crease_pattern_test {
 namespace {
 
 TEST(CreasePattern, TheCubesNetHasFourteenCornersFiveMountainsAndItsArea) {
@@ -81,4 +81,4 @@ TEST(CreasePattern, AFoldBelowTheFlatAngleIsAFlatCreaseAndNoHinge) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::crease_pattern_test

@@ -16,7 +16,7 @@
 #include "methods/origami/sheet_layout.h"
 #include "plate/actuator_stack.h"
 
-namespace flatmorph {
+namespace flatmorph::design_origami_test {
 namespace {
 
 OrigamiOptions default_options() {
@@ -252,4 +252,4 @@ TEST(DesignOrigami, ASheetLargerThanTheBedIsRefusedWithTheRoomItNeeds) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::design_origami_test

@@ -2,6 +2,7 @@
 // parser: counts, assignments, signed angles in degrees, counter-clockwise faces whose sides are
 // edges, the hinge designs under flatmorph's prefix, and the folded frame landing on the solid.
 #include "methods/origami/fold_file.h"
+#include "common/angles.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -13,10 +14,8 @@
 #include "examples/origami_examples.h"
 #include "methods/origami/unfold.h"
 
-namespace flatmorph {
+namespace flatmorph::fold_file_test {
 namespace {
-
-constexpr double kPi = std::numbers::pi;
 
 struct Cube {
   Unfolding unfolding = unfold(polyhedron_example("cube", 20));
@@ -188,4 +187,4 @@ TEST(FoldFile, InputsThatDoNotMatchThePatternAreBugs) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::fold_file_test

@@ -3,6 +3,7 @@
 // partial bends, invariance under turning and mirroring the sheet, loops that cannot close, the
 // folded mesh, and collisions from exact triangle tests.
 #include "methods/origami/fold_simulation.h"
+#include "common/angles.h"
 
 #include <gtest/gtest.h>
 
@@ -17,15 +18,13 @@
 #include "methods/origami/actuators.h"
 #include "methods/origami/origami_fixtures.h"
 
-namespace flatmorph {
+namespace flatmorph::fold_simulation_test {
 namespace {
 
 using testing::drawn_sheet;
 using testing::example_sheet;
 using testing::hinges_of;
 
-constexpr double kPi = std::numbers::pi;
-constexpr double kDegree = kPi / 180;
 const char* const kSolids[] = {"tetrahedron",  "cube",        "octahedron",
                                "dodecahedron", "icosahedron", "pyramid"};
 
@@ -355,4 +354,4 @@ TEST(FoldSimulation, TwoFlapsFoldingOntoTheSameFaceCollide) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::fold_simulation_test

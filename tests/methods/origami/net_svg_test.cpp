@@ -3,6 +3,7 @@
 // for them; the printed sheet's groups, actuators by case, hinge lines by fold, the outline to
 // cut around faces and actuators, and the face numbers inside their faces.
 #include "methods/origami/net_svg.h"
+#include "common/angles.h"
 
 #include <gtest/gtest.h>
 
@@ -17,10 +18,8 @@
 #include "methods/origami/crease_pattern_svg.h"
 #include "methods/origami/unfold.h"
 
-namespace flatmorph {
+namespace flatmorph::net_svg_test {
 namespace {
-
-constexpr double kPi = std::numbers::pi;
 
 struct Drawn {
   std::string group;  // the id of the group around it ("" at the root)
@@ -199,4 +198,4 @@ TEST(NetSvg, ASheetNotMadeFromThePatternIsABug) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::net_svg_test

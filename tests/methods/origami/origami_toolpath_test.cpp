@@ -2,6 +2,7 @@
 // from the G-code as the tests' own reader replays it: faces of 20 x 20 mm joined by 10 mm wide
 // actuators, case A, case B, both in one sheet, and turned so that the hinge runs at 30° to x.
 #include "methods/origami/origami_toolpath.h"
+#include "common/angles.h"
 
 #include <fmt/core.h>
 #include <gtest/gtest.h>
@@ -15,10 +16,9 @@
 #include "gcode/gcode_writer.h"
 #include "material/material.h"
 
-namespace flatmorph {
+namespace flatmorph::origami_toolpath_test {
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180;
 constexpr double kActiveSpeed = 5000.0 / 60;  // mm/s, the paper's samples
 
 Eigen::Matrix2d rotation(double angle) {
@@ -84,7 +84,7 @@ bool in_grown(const Eigen::Vector2d& st, double slack) {
 
 // The angle between a segment and a direction, as lines (0 to 90 degrees).
 double line_angle(const Eigen::Vector2d& d, const Eigen::Vector2d& dir) {
-  return std::acos(std::min(1.0, std::abs(d.normalized().dot(dir)))) / kDeg;
+  return std::acos(std::min(1.0, std::abs(d.normalized().dot(dir)))) / kDegree;
 }
 
 struct Bead {
@@ -285,10 +285,10 @@ TEST(OrigamiToolpath, FacesAreSolidAndStopWhereTheActuatorBegins) {
 
 TEST(OrigamiToolpath, AHingeAt30DegreesTurnsItsLines) {
   // The hinge along y turned by -60 degrees runs at 30 degrees to x.
-  const double angle = -60 * kDeg;
+  const double angle = -60 * kDegree;
   const ActuatedSheet turned = row_of_faces({true}, angle);
   const Eigen::Vector2d hinge(-turned.actuators[0].across.y(), turned.actuators[0].across.x());
-  EXPECT_NEAR(std::atan2(hinge.y(), hinge.x()) / kDeg, 30, 1e-9);
+  EXPECT_NEAR(std::atan2(hinge.y(), hinge.x()) / kDegree, 30, 1e-9);
   const Toolpath toolpath = origami_toolpath(turned);
   expect_actuators_as_designed(beads_of(toolpath), turned, Eigen::Vector2d::Zero(), 2e-3);
   // The actuator's own lines are those of the unturned sheet, turned: the same length in each
@@ -365,7 +365,7 @@ TEST(OrigamiToolpath, TwoToolGcodeReadsBackAsDesigned) {
       {{true}, 1}, {{false}, 2}, {{true, false}, 3}};
   for (const auto& [stacking, changes] : cases) {
     SCOPED_TRACE(stacking.size() == 2 ? "both" : stacking[0] ? "case A" : "case B");
-    const ActuatedSheet sheet = row_of_faces(stacking, stacking.size() == 1 ? -60 * kDeg : 0);
+    const ActuatedSheet sheet = row_of_faces(stacking, stacking.size() == 1 ? -60 * kDegree : 0);
     const Printed p = print(sheet, "prusa-xl-2t");
     expect_actuators_as_designed(beads_of(p.read), sheet, p.gcode.plate_to_bed, 3e-3);
     EXPECT_EQ(p.read.tool_changes.size(), changes);
@@ -452,4 +452,4 @@ TEST(OrigamiToolpath, CheckCatchesAFileAtTheWrongTemperature) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::origami_toolpath_test

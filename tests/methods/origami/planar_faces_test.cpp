@@ -3,6 +3,7 @@
 // and keeps its volume, a turned mesh gives the turned solid, planar regions that would have a
 // hole are split, an open mesh keeps its border, bad meshes are refused by name, and the bunny.
 #include "methods/origami/planar_faces.h"
+#include "common/angles.h"
 
 #include <gtest/gtest.h>
 
@@ -20,10 +21,8 @@
 #include "examples/origami_examples.h"
 #include "methods/origami/unfold.h"
 
-namespace flatmorph {
+namespace flatmorph::planar_faces_test {
 namespace {
-
-constexpr double kPi = std::numbers::pi;
 
 Mesh from_lists(const std::vector<Eigen::Vector3d>& points,
                 const std::vector<std::array<int, 3>>& triangles) {
@@ -520,4 +519,4 @@ TEST(PlanarFaces, FiveThousandTrianglesSimplifyInWellUnderASecond) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::planar_faces_test

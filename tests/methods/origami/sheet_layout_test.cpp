@@ -9,7 +9,7 @@
 #include "common/error.h"
 #include "mesh/convex_hull.h"
 
-namespace flatmorph {
+namespace flatmorph::sheet_layout_test {
 namespace {
 
 Eigen::MatrixX2d turned(const Eigen::MatrixX2d& points, double angle) {
@@ -107,4 +107,4 @@ TEST(SheetLayout, BoxesGoInRowsOnAsManyBedsAsTheyNeed) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::sheet_layout_test

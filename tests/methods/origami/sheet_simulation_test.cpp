@@ -22,7 +22,7 @@
 #include "run/gcode_prediction.h"
 #include "run/print_plan.h"
 
-namespace flatmorph {
+namespace flatmorph::sheet_simulation_test {
 namespace {
 
 OrigamiOptions sheet_options() {
@@ -139,4 +139,4 @@ TEST(SheetSimulation, FittingTheWidthsBringsTheCubesHingesToTheirAngles) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::sheet_simulation_test

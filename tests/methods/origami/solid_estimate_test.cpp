@@ -10,7 +10,7 @@
 #include <filesystem>
 #include <fstream>
 
-namespace flatmorph {
+namespace flatmorph::solid_estimate_test {
 namespace {
 
 TEST(SolidEstimate, ThePlatonicSolidsHaveTheirVolumeAndArea) {
@@ -78,4 +78,4 @@ TEST(SolidEstimate, TheSlicerIsRunOnTheSolidWhenInstalledAndMissedQuietlyWhenNot
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::solid_estimate_test

@@ -2,6 +2,7 @@
 // counts and dihedral angles in closed form, nets without overlap that fold back onto the solid,
 // the same nets for a turned solid, a saddle vertex that needs two nets, and bad solids refused.
 #include "methods/origami/unfold.h"
+#include "common/angles.h"
 
 #include <gtest/gtest.h>
 
@@ -12,10 +13,8 @@
 #include "common/error.h"
 #include "examples/origami_examples.h"
 
-namespace flatmorph {
+namespace flatmorph::unfold_test {
 namespace {
-
-constexpr double kPi = std::numbers::pi;
 
 double diagonal(const Polyhedron& solid) {
   return (solid.V.colwise().maxCoeff() - solid.V.colwise().minCoeff()).norm();
@@ -170,4 +169,4 @@ TEST(Polyhedron, BadSolidsAreRefusedNamingTheFaces) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::unfold_test

@@ -19,7 +19,7 @@
 #include "simulate/simulate.h"
 #include "test_support.h"
 
-namespace flatmorph {
+namespace flatmorph::design_test {
 namespace {
 
 struct ExampleCase {
@@ -250,4 +250,4 @@ INSTANTIATE_TEST_SUITE_P(Examples, DesignExample,
                          [](const auto& info) { return std::string(info.param.name); });
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::design_test

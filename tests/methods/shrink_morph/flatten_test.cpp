@@ -2,6 +2,7 @@
 // (a developable cylinder, a plane), the paper's meshes and the built-in examples, derivatives of
 // the Eq. 12 energy, invariants (rotation, flip = mirror) and the CLI (determinism, bad options).
 #include "methods/shrink_morph/flatten.h"
+#include "common/angles.h"
 
 #include <gtest/gtest.h>
 
@@ -30,13 +31,11 @@
 #include "methods/shrink_morph/flatten_internal.h"
 #include "test_support.h"
 
-namespace flatmorph {
+namespace flatmorph::flatten_test {
 namespace {
 
 namespace fs = std::filesystem;
 using namespace shrink_morph_internal;
-
-constexpr double kPi = std::numbers::pi;
 
 using testing::grid_mesh;
 
@@ -518,4 +517,4 @@ TEST(FlattenCli, NegativeWidthExitsWithStatus2AndWritesNothing) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::flatten_test

@@ -21,7 +21,7 @@
 #include "simulate/plate_energy.h"
 #include "simulate/simulate.h"
 
-namespace flatmorph {
+namespace flatmorph::optimize_theta2_test {
 namespace {
 
 // A spherical cap of radius `radius` mm over an n x n grid of the square [-1, 1]^2 * half_width.
@@ -195,4 +195,4 @@ TEST(OptimizeTheta2, StopsWhenTheGaussNewtonModelPredictsLessThanTheTolerance) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::optimize_theta2_test

@@ -20,7 +20,7 @@
 #include "methods/shrink_morph/paper_table1.h"
 #include "test_support.h"
 
-namespace flatmorph {
+namespace flatmorph::table1_test {
 namespace {
 
 struct Table1Case {
@@ -64,4 +64,4 @@ INSTANTIATE_TEST_SUITE_P(
     });
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::table1_test

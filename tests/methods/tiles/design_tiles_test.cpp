@@ -16,7 +16,7 @@
 #include "material/material.h"
 #include "material/thickness_curve.h"
 
-namespace flatmorph {
+namespace flatmorph::design_tiles_test {
 namespace {
 
 TileLayout one_tile(const std::string& profile, double radius, double height, int side) {
@@ -158,4 +158,4 @@ TEST(DesignTiles, TheOptimizedShrinkBringsARoundedSquareTwiceCloserThanTheCircle
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::design_tiles_test

@@ -15,13 +15,12 @@
 #include "methods/tiles/outline_file.h"
 #include "test_support.h"
 
-namespace flatmorph {
+namespace flatmorph::dxf_outlines_test {
 namespace {
 
 namespace fs = std::filesystem;
 using testing::error_of;
 using testing::has_vertex;
-using testing::kPi;
 using testing::radius_range;
 using testing::signed_area;
 
@@ -566,4 +565,4 @@ TEST(TileOutlineFile, RefusesOtherExtensionsAndMissingFiles) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::dxf_outlines_test

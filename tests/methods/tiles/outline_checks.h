@@ -10,11 +10,10 @@
 #include <numbers>
 #include <string>
 
+#include "common/angles.h"
 #include "common/error.h"
 
 namespace flatmorph::testing {
-
-inline constexpr double kPi = std::numbers::pi;
 
 // Signed area (mm^2), positive counter-clockwise.
 inline double signed_area(const Eigen::MatrixX2d& p) {

@@ -10,12 +10,11 @@
 #include "methods/tiles/outline_checks.h"
 #include "test_support.h"
 
-namespace flatmorph {
+namespace flatmorph::svg_outlines_test {
 namespace {
 
 using testing::error_of;
 using testing::has_vertex;
-using testing::kPi;
 using testing::radius_range;
 using testing::signed_area;
 
@@ -424,4 +423,4 @@ TEST(SvgOutlines, EntitiesAndCharacterReferencesAreDecoded) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::svg_outlines_test

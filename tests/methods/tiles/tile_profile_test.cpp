@@ -3,6 +3,7 @@
 // invariances (reparametrisation, scale), the library's rescaling, the clamp and its one-line
 // warning, the forward model's round trip, CSV refusals, and the polygon mapping.
 #include "methods/tiles/tile_profile.h"
+#include "common/angles.h"
 
 #include <fmt/core.h>
 #include <gtest/gtest.h>
@@ -13,12 +14,11 @@
 
 #include "common/error.h"
 
-namespace flatmorph {
+namespace flatmorph::tile_profile_test {
 namespace {
 
 constexpr double kLeast = 0.0793;  // Geodesy Fig. 2a, PLA
 constexpr double kMost = 0.3727;
-constexpr double kPi = std::numbers::pi;
 
 // The bead centrelines of a disc of flat radius R printed with pitch w (note §4.2, A8).
 Eigen::VectorXd ring_radii(double flat_radius, double pitch) {
@@ -419,4 +419,4 @@ TEST(TileProfile, PolygonMappingReproducesTheCircle) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::tile_profile_test

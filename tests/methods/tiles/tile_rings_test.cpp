@@ -2,6 +2,7 @@
 // tree and chains, and one continuous path through a chain. Checked against closed forms (discs,
 // squares, holes), invariants (every vertex at its depth, rotation) and the path's geometry.
 #include "methods/tiles/tile_rings.h"
+#include "common/angles.h"
 
 #include <gtest/gtest.h>
 
@@ -14,10 +15,8 @@
 #include "common/error.h"
 #include "mesh/polygon.h"
 
-namespace flatmorph {
+namespace flatmorph::tile_rings_test {
 namespace {
-
-constexpr double kPi = std::numbers::pi;
 
 Eigen::MatrixX2d circle(double radius, int n, double cx = 0, double cy = 0) {
   Eigen::MatrixX2d points(n, 2);
@@ -553,4 +552,4 @@ TEST(TileRings, ThirtyMillimetreDiscAtPitch04) {
 }
 
 }  // namespace
-}  // namespace flatmorph
+}  // namespace flatmorph::tile_rings_test
