@@ -3,12 +3,11 @@
 
 #include <CLI/CLI.hpp>
 #include <filesystem>
-#include <fstream>
 #include <optional>
-#include <sstream>
 
 #include "commands.h"
 #include "common/error.h"
+#include "common/file_text.h"
 #include "gcode/gcode_check.h"
 #include "gcode/gcode_reader.h"
 #include "gcode/printer_profile.h"
@@ -45,16 +44,10 @@ int run_check(const CheckOptions& options, const GlobalOptions& global) {
   std::vector<Material> materials;
   std::string source = "--material";
   if (options.material) materials = load_tool_materials(*options.material);
-  std::ifstream in(options.file, std::ios::binary);
-  if (!in) {
-    throw UserError(ErrorCategory::kFile,
-                    fmt::format("{}: cannot open the G-code file; check the path", options.file));
-  }
-  std::stringstream text;
-  text << in.rdbuf();
+  const std::string text = read_file_text(options.file, "G-code file");
   // The printer and the materials the file names in its header (flatmorph's own files do), unless
   // given.
-  const GcodeHeaderInfo header = read_gcode_header(text.str());
+  const GcodeHeaderInfo header = read_gcode_header(text);
   if (!printer) printer = header_printer(header, options.file);
   if (materials.empty()) {
     materials = header_tool_materials(header, options.file);
@@ -72,7 +65,7 @@ int run_check(const CheckOptions& options, const GlobalOptions& global) {
   for (const Material& m : materials) {
     material_names += (material_names.empty() ? "" : ",") + m.name;
   }
-  const std::vector<GcodeViolation> violations = check_gcode(text.str(), *printer, materials, 1000);
+  const std::vector<GcodeViolation> violations = check_gcode(text, *printer, materials, 1000);
   for (const GcodeViolation& v : violations) {
     fmt::print("{}:{}: {}: {}\n", options.file, v.line, to_string(v.kind), v.reason);
   }

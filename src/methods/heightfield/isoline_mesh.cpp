@@ -32,6 +32,7 @@
 
 #include "common/error.h"
 #include "mesh/plane_geometry.h"
+#include "mesh/polygon.h"
 #include "mesh/topology.h"
 
 namespace flatmorph {
@@ -449,12 +450,6 @@ void chord_fit(const Loop& loop, const std::vector<double>& room, double s0, dou
     const double off = len > 0.0 ? std::abs(cross2(d, q - a.p)) / len : (q - a.p).norm();
     deviation = std::max(deviation, off);
   }
-}
-
-double signed_area2(const std::vector<Vector2d>& poly) {
-  double sum = 0.0;
-  for (size_t i = 0; i < poly.size(); ++i) sum += cross2(poly[i], poly[(i + 1) % poly.size()]);
-  return sum;
 }
 
 // Per level: which loop and segment lie in each crossed face, sorted by face.
@@ -1285,7 +1280,7 @@ IsolineLoops march_isoline_loops(const Surface& s, const std::vector<double>& he
   double total_length = 0.0;
   for (const Loop& loop : loops) {
     total_length += loop.perimeter();
-    if (loop.level > 0 && signed_area2(loop.points) <= 0.0) {
+    if (loop.level > 0 && signed_area(loop.points) <= 0.0) {
       throw UserError(ErrorCategory::kGeometry,
                       fmt::format("{}: a pit near {} at {:.3f} mm (a loop of the surface's "
                                   "isolines runs the wrong way); fill it",
