@@ -130,12 +130,15 @@ Mesh marching_tetrahedra(const Field& field, const Eigen::Vector3d& lo, const Ei
           Eigen::Vector3d outward = Eigen::Vector3d::Zero();
           for (long long v : out) outward += position(v) / double(out.size());
           for (long long v : in) outward -= position(v) / double(in.size());
+          // The crossings are numbered last first, in sequenced statements: the numbering sets the
+          // low-poly bunny's faces, and function arguments are evaluated in an order each compiler
+          // chooses.
           if (in.size() == 1) {
-            emit(point_on(in[0], out[0]), point_on(in[0], out[1]), point_on(in[0], out[2]),
-                 outward);
+            const int c = point_on(in[0], out[2]), b = point_on(in[0], out[1]);
+            emit(point_on(in[0], out[0]), b, c, outward);
           } else if (in.size() == 3) {
-            emit(point_on(in[0], out[0]), point_on(in[1], out[0]), point_on(in[2], out[0]),
-                 outward);
+            const int c = point_on(in[2], out[0]), b = point_on(in[1], out[0]);
+            emit(point_on(in[0], out[0]), b, c, outward);
           } else if (in.size() == 2) {
             const int ac = point_on(in[0], out[0]), ad = point_on(in[0], out[1]);
             const int bd = point_on(in[1], out[1]), bc = point_on(in[1], out[0]);
