@@ -3,8 +3,6 @@
 #include <fmt/core.h>
 
 #include <algorithm>
-#include <array>
-#include <climits>
 #include <cmath>
 #include <cstdint>
 #include <memory>
@@ -20,9 +18,7 @@
 namespace flatmorph {
 namespace {
 
-using png_bytes::big_endian_32;
 using png_bytes::kMaxFileBytes;
-using png_bytes::kPngSignature;
 using png_bytes::StbFree;
 
 constexpr const char* kExportAgain = "export the texture again as an 8- or 16-bit PNG";
@@ -35,54 +31,15 @@ constexpr double kUvEdgeTolerance = 1e-6;
   throw UserError(category, fmt::format("{}: {}", source, problem));
 }
 
-// What stb_image must not see (as read_gray_png_bytes checks, worded for a texture): no signature,
-// a zero or absurd size in IHDR, a chunk claiming more bytes than the file holds (stb_image would
-// allocate what it claims before reading), no IEND.
-void check_png_structure(std::string_view bytes, const std::string& source) {
-  if (bytes.empty())
-    refuse(ErrorCategory::kFormat, source, fmt::format("empty file: {}", kExportAgain));
-  if (bytes.size() < kPngSignature.size() ||
-      !std::equal(kPngSignature.begin(), kPngSignature.end(), bytes.begin(),
-                  [](unsigned char a, char b) { return a == static_cast<unsigned char>(b); })) {
-    refuse(ErrorCategory::kFormat, source,
-           "not a PNG file (it does not start with the PNG signature): flatmorph reads textures "
-           "as PNG only; convert the image (e.g. `convert texture.jpg texture.png`)");
-  }
-  if (bytes.size() > static_cast<size_t>(INT_MAX)) {
-    refuse(ErrorCategory::kResource, source,
-           fmt::format("{} bytes is too large for a texture PNG; scale the image down to at most "
-                       "8192 x 8192 pixels",
-                       bytes.size()));
-  }
-  if (bytes.size() >= 24 && bytes.substr(12, 4) == "IHDR") {
-    const uint32_t width = big_endian_32(bytes, 16), height = big_endian_32(bytes, 20);
-    if (width == 0 || height == 0) {
-      refuse(
-          ErrorCategory::kFormat, source,
-          fmt::format("the PNG has zero size ({} x {} pixels): {}", width, height, kExportAgain));
-    }
-    if (static_cast<uint64_t>(width) * height > static_cast<uint64_t>(kMaxGrayImagePixels)) {
-      refuse(ErrorCategory::kResource, source,
-             fmt::format("{} x {} pixels is more than flatmorph reads (8192 x 8192 pixels in "
-                         "all); scale the texture down",
-                         width, height));
-    }
-  }
-  size_t at = kPngSignature.size();
-  while (at + 8 <= bytes.size()) {
-    const uint64_t length = big_endian_32(bytes, at);
-    if (at + 12 + length > bytes.size()) {
-      refuse(ErrorCategory::kFormat, source,
-             fmt::format("the PNG is truncated or damaged (a chunk at byte {} claims {} bytes, "
-                         "past the end of the file): {}",
-                         at, length, kExportAgain));
-    }
-    if (bytes.substr(at + 4, 4) == "IEND") return;
-    at += 12 + length;
-  }
-  refuse(ErrorCategory::kFormat, source,
-         fmt::format("the PNG is truncated (it ends before its IEND chunk): {}", kExportAgain));
-}
+constexpr png_bytes::PngAdvice kTextureAdvice = {
+    .what = "texture",
+    .if_empty = kExportAgain,
+    .if_not_png =
+        "flatmorph reads textures as PNG only; convert the image (e.g. `convert "
+        "texture.jpg texture.png`)",
+    .if_zero_size = kExportAgain,
+    .if_too_large = "scale the texture down",
+    .if_damaged = kExportAgain};
 
 // RGB samples from a decoded image of `channels` channels (1 gray, 2 gray + alpha, 3 RGB, 4 RGBA),
 // alpha composited on white.
@@ -149,7 +106,7 @@ Eigen::Vector3d sample_bilinear(const ColorImage& image, double u, double v) {
 }
 
 ColorImage read_color_png_bytes(std::string_view bytes, const std::string& source) {
-  check_png_structure(bytes, source);
+  png_bytes::check_png_structure(bytes, source, kTextureAdvice);
   const auto* data = reinterpret_cast<const stbi_uc*>(bytes.data());
   const int length = static_cast<int>(bytes.size());
   int channels = 0;

@@ -4,8 +4,6 @@
 #include <fmt/core.h>
 
 #include <algorithm>
-#include <array>
-#include <climits>
 #include <cmath>
 #include <cstdint>
 #include <memory>
@@ -17,9 +15,7 @@
 namespace flatmorph {
 namespace {
 
-using png_bytes::big_endian_32;
 using png_bytes::kMaxFileBytes;
-using png_bytes::kPngSignature;
 using png_bytes::StbFree;
 
 // Rec. 709 luma weights (they sum to 1, so a gray RGB pixel keeps its value exactly).
@@ -41,29 +37,13 @@ std::vector<uint16_t> to_gray(const Sample* pixels, size_t count, int channels, 
   return gray;
 }
 
-// Every chunk up to IEND must lie within the file. stb_image sizes its buffers by what the chunk
-// headers claim, before reading: a few hundred bytes claiming a 2 GB chunk would have it allocate
-// 2 GB. After this, what it allocates for the data is bounded by the file's size.
-void check_chunks(std::string_view bytes, const std::string& source) {
-  size_t at = kPngSignature.size();
-  while (at + 8 <= bytes.size()) {
-    const uint64_t length = big_endian_32(bytes, at);
-    const std::string type(bytes.substr(at + 4, 4));
-    if (at + 12 + length > bytes.size()) {
-      throw UserError(ErrorCategory::kFormat,
-                      fmt::format("{}: the PNG is truncated or damaged (a chunk at byte {} claims "
-                                  "{} bytes, past the end of the file): export the height map "
-                                  "again as an 8- or 16-bit PNG",
-                                  source, at, length));
-    }
-    if (type == "IEND") return;
-    at += 12 + length;
-  }
-  throw UserError(ErrorCategory::kFormat,
-                  fmt::format("{}: the PNG is truncated (it ends before its IEND chunk): export "
-                              "the height map again as an 8- or 16-bit PNG",
-                              source));
-}
+constexpr png_bytes::PngAdvice kHeightMapAdvice = {
+    .what = "height map",
+    .if_empty = "save the height map as an 8- or 16-bit PNG",
+    .if_not_png = "save the height map as an 8- or 16-bit grayscale PNG",
+    .if_zero_size = "export the height map again",
+    .if_too_large = "scale the image down",
+    .if_damaged = "export the height map again as an 8- or 16-bit PNG"};
 
 [[noreturn]] void throw_undecodable(const std::string& source) {
   throw UserError(ErrorCategory::kFormat,
@@ -75,43 +55,7 @@ void check_chunks(std::string_view bytes, const std::string& source) {
 }  // namespace
 
 GrayImage read_gray_png_bytes(std::string_view bytes, const std::string& source) {
-  if (bytes.empty()) {
-    throw UserError(
-        ErrorCategory::kFormat,
-        fmt::format("{}: empty file: save the height map as an 8- or 16-bit PNG", source));
-  }
-  if (bytes.size() < kPngSignature.size() ||
-      !std::equal(kPngSignature.begin(), kPngSignature.end(), bytes.begin(),
-                  [](unsigned char a, char b) { return a == static_cast<unsigned char>(b); })) {
-    throw UserError(ErrorCategory::kFormat,
-                    fmt::format("{}: not a PNG file (it does not start with the PNG signature): "
-                                "save the height map as an 8- or 16-bit grayscale PNG",
-                                source));
-  }
-  if (bytes.size() > static_cast<size_t>(INT_MAX)) {
-    throw UserError(ErrorCategory::kResource,
-                    fmt::format("{}: {} bytes is too large for a height map PNG; scale the image "
-                                "down to at most 8192 x 8192 pixels",
-                                source, bytes.size()));
-  }
-  // The size from the header (IHDR, always the first chunk) before stb_image sees the file, so
-  // that zero and absurd sizes get their own message and nothing is allocated for the latter.
-  if (bytes.size() >= 24 && bytes.substr(12, 4) == "IHDR") {
-    const uint32_t width = big_endian_32(bytes, 16), height = big_endian_32(bytes, 20);
-    if (width == 0 || height == 0) {
-      throw UserError(ErrorCategory::kFormat,
-                      fmt::format("{}: the PNG has zero size ({} x {} pixels): export the height "
-                                  "map again",
-                                  source, width, height));
-    }
-    if (static_cast<uint64_t>(width) * height > static_cast<uint64_t>(kMaxGrayImagePixels)) {
-      throw UserError(ErrorCategory::kResource,
-                      fmt::format("{}: {} x {} pixels is more than flatmorph reads (8192 x 8192 "
-                                  "pixels in all); scale the image down",
-                                  source, width, height));
-    }
-  }
-  check_chunks(bytes, source);
+  png_bytes::check_png_structure(bytes, source, kHeightMapAdvice);
   const auto* data = reinterpret_cast<const stbi_uc*>(bytes.data());
   const int length = static_cast<int>(bytes.size());
   int channels = 0;
