@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "commands.h"
+#include "common/angles.h"
 #include "common/error.h"
 #include "gcode/printer_profile.h"
 #include "gcode_input.h"
@@ -216,7 +217,9 @@ int run_simulate_gcode(const SimulateOptions& o, const GlobalOptions& global) {
         "materials from {}\n",
         o.plate_path, p.num_beads, p.read_seconds,
         o.plate_mesh ? *o.plate_mesh
-                     : fmt::format("the first layer's footprint at {} mm", o.resolution_mm),
+                     : fmt::format("the first layer's footprint at {} mm on the part's axes "
+                                   "({:.1f}° from the bed's x)",
+                                   o.resolution_mm, p.footprint_frame.angle * kDegreesPerRadian),
         plate.plate.rows(), plate.F.rows(),
         left_out(p.plate, o.plate_mesh.has_value(), plate.F.rows()), describe_stack(plate.stack),
         materials_from);
@@ -381,7 +384,9 @@ Command make_simulate_command(CLI::App& app, const GlobalOptions& global) {
                   "placed by the file's plate_to_bed, else centred on the first layer); default: "
                   "the first layer's footprint");
   sub->add_option("--resolution", o->resolution_mm,
-                  "G-code only: edge length (mm) of the plate mesh built from the footprint")
+                  "G-code only: edge length (mm) of the plate mesh built from the first layer's "
+                  "footprint, a lattice on the part's own axes (its principal axes), so that the "
+                  "prediction does not depend on where or at what angle it lies on the bed")
       ->capture_default_str();
   sub->add_option("--min-cover", o->min_cover,
                   "G-code only: the share of a face a layer's beads must cover for the layer to "

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "mesh/io.h"
+#include "simulate/distance.h"
 #include "test_support.h"
 
 namespace flatmorph::cli_simulate_test {
@@ -127,14 +128,16 @@ TEST(CliSimulate, PredictsAGcodeFileOnItsFootprintAndWritesARunFolder) {
   for (const char* file : {"flat.ply", "flat.stack.json", "design.json", "report.html"}) {
     EXPECT_TRUE(fs::exists(dir / "out" / "strip" / file)) << file;
   }
-  // The same strip with absolute E reads as the same plate, so curls the same.
+  // The same strip with absolute E reads as the same plate, so curls the same. (Its beads' widths
+  // differ in rounding, so its plate does by 1e-6 mm, enough to register the shape at another of
+  // the central faces a symmetric plate has: the same shape, moved.)
   write_text(dir / "strip_abs.gcode", strip_gcode(false));
   const auto a = run_cli({"simulate", (dir / "strip_abs.gcode").string(), "-o",
                           (dir / "out" / "strip_abs.ply").string()});
   ASSERT_EQ(a.exit_code, 0) << a.err;
   const Mesh twin = read_mesh(dir / "out" / "strip_abs.ply").mesh;
   ASSERT_EQ(twin.V.rows(), shape.V.rows());
-  EXPECT_LT((twin.V - shape.V).cwiseAbs().maxCoeff(), 1e-6);
+  EXPECT_LT((rigidly_aligned(twin.V, shape.V) - shape.V).cwiseAbs().maxCoeff(), 1e-5);
 }
 
 TEST(CliSimulate, HostileGcodeGivesOneLineAndExit2) {
