@@ -12,11 +12,14 @@
 #include <vector>
 
 #include "commands.h"
+#include "common/angles.h"
 #include "common/error.h"
 #include "gcode/printer_profile.h"
 #include "gcode_input.h"
 #include "material/material.h"
 #include "mesh/io.h"
+#include "mesh/operators.h"
+#include "mesh/validate.h"
 #include "output_folder.h"
 #include "plate/laminate.h"
 #include "plate/layer_stack.h"
@@ -26,6 +29,7 @@
 #include "run/run_folder.h"
 #include "simulate/distance.h"
 #include "simulate/simulate.h"
+#include "simulate/surface_fit.h"
 
 namespace flatmorph::cli {
 namespace {
@@ -66,6 +70,26 @@ Eigen::MatrixXd read_shape_of(const std::string& path, const Mesh& plate, const 
                                 path, role, plate.num_vertices(), plate.num_faces()));
   }
   return file.mesh.V;
+}
+
+// A target for a G-code simulated on its own footprint: any triangle mesh with finite
+// coordinates and some area (closed, in pieces or with holes alike), compared by shape.
+Mesh read_target_surface(const std::string& path) {
+  Mesh mesh = read_mesh(path).mesh;
+  for (const MeshProblem& problem : diagnose_mesh(mesh).problems) {
+    if (problem.kind == MeshProblemKind::kEmpty || problem.kind == MeshProblemKind::kNotTriangles ||
+        problem.kind == MeshProblemKind::kBadCoordinates ||
+        problem.kind == MeshProblemKind::kMissingVertices) {
+      throw UserError(problem.category, problem_line(path, problem));
+    }
+  }
+  if (!(face_areas(mesh.V, mesh.F).sum() > 0)) {
+    throw UserError(ErrorCategory::kGeometry,
+                    fmt::format("{}: the target has no face of positive area; give the target "
+                                "surface as a triangle mesh (PLY, OBJ, STL, OFF)",
+                                path));
+  }
+  return mesh;
 }
 
 void print_result(const char* label, const SimulationResult& r) {
@@ -163,12 +187,6 @@ int run_simulate_gcode(const SimulateOptions& o, const GlobalOptions& global) {
                                 "lattice of lines w wide every s mm: w / (2 s))",
                                 o.min_cover));
   }
-  if (!o.target_path.empty() && !o.plate_mesh) {
-    throw UserError(
-        ErrorCategory::kOption,
-        "--target needs --plate: the target is compared vertex by vertex with the plate "
-        "it was designed on (give the design's flat.ply)");
-  }
   const std::filesystem::path run_dir = std::filesystem::path(o.output).replace_extension();
   require_run_folder_destination(run_dir);
   // The folder of the outputs, made before minutes of work rather than failing after them.
@@ -192,6 +210,10 @@ int run_simulate_gcode(const SimulateOptions& o, const GlobalOptions& global) {
     options.plate_V = plate_mesh.V.leftCols(2);
     options.plate_F = plate_mesh.F;
   }
+  // Without the plate it was designed on, the target is compared by shape: read and checked
+  // before minutes of work rather than after them.
+  std::optional<Mesh> target_surface;
+  if (!o.target_path.empty() && !o.plate_mesh) target_surface = read_target_surface(o.target_path);
   const std::string text = read_text(o.plate_path);
   // A file cut short (a copy or an upload that stopped) ends in the middle of a line, before the
   // end G-code turns the motors off: predicting half a print would be a silent wrong answer.
@@ -216,7 +238,9 @@ int run_simulate_gcode(const SimulateOptions& o, const GlobalOptions& global) {
         "materials from {}\n",
         o.plate_path, p.num_beads, p.read_seconds,
         o.plate_mesh ? *o.plate_mesh
-                     : fmt::format("the first layer's footprint at {} mm", o.resolution_mm),
+                     : fmt::format("the first layer's footprint at {} mm on the part's axes "
+                                   "({:.1f}° from the bed's x)",
+                                   o.resolution_mm, p.footprint_frame.angle * kDegreesPerRadian),
         plate.plate.rows(), plate.F.rows(),
         left_out(p.plate, o.plate_mesh.has_value(), plate.F.rows()), describe_stack(plate.stack),
         materials_from);
@@ -239,7 +263,24 @@ int run_simulate_gcode(const SimulateOptions& o, const GlobalOptions& global) {
   Eigen::MatrixXd predicted = p.result.V;
   nlohmann::ordered_json metrics;
   MeshProperties properties;
-  if (!o.target_path.empty()) {
+  if (target_surface) {
+    const SurfaceFit fit =
+        closest_point_rigid_fit(predicted, plate.F, target_surface->V, target_surface->F);
+    const ShapeDistance& d = fit.distance;
+    predicted = fit.aligned;
+    properties.set_vertex("deviation_mm", d.per_vertex_mm);
+    run.target = *target_surface;
+    run.predicted_deviation_mm = d.per_vertex_mm;
+    metrics["gcode_dist_avg_pct"] = d.mean_percent;
+    metrics["gcode_dist_max_pct"] = d.max_percent;
+    if (!global.quiet) {
+      fmt::print(
+          "distance to target by shape (closest points on its surface after the best rigid fit, "
+          "no vertex correspondence): average {:.3f} % / max {:.3f} % of the diagonal ({:.3f} / "
+          "{:.3f} mm, diagonal {:.1f} mm)\n",
+          d.mean_percent, d.max_percent, d.mean_mm, d.max_mm, d.diagonal_mm);
+    }
+  } else if (!o.target_path.empty()) {
     const Eigen::MatrixXd full_target = read_shape_of(o.target_path, plate_mesh, "target");
     const Eigen::MatrixXd target = full_target(p.plate.kept_vertices, Eigen::all);
     predicted = rigidly_aligned(predicted, target);
@@ -276,6 +317,12 @@ int run_simulate_gcode(const SimulateOptions& o, const GlobalOptions& global) {
   for (const Material& m : materials) names.push_back(m.name);
   parameters["materials"] = names;
   parameters["plate_to_bed_mm"] = {p.plate_to_bed.x(), p.plate_to_bed.y()};
+  if (!o.target_path.empty()) {
+    parameters["target"] = o.target_path;
+    parameters["target_comparison"] =
+        target_surface ? "shape: closest points on the target's surface after the best rigid fit"
+                       : "vertices: the plate's, after the best rigid fit";
+  }
   run.parameters = parameters;
   run.metrics = metrics;
   run.metric_list = run_metric_list(metrics);
@@ -381,7 +428,9 @@ Command make_simulate_command(CLI::App& app, const GlobalOptions& global) {
                   "placed by the file's plate_to_bed, else centred on the first layer); default: "
                   "the first layer's footprint");
   sub->add_option("--resolution", o->resolution_mm,
-                  "G-code only: edge length (mm) of the plate mesh built from the footprint")
+                  "G-code only: edge length (mm) of the plate mesh built from the first layer's "
+                  "footprint, a lattice on the part's own axes (its principal axes), so that the "
+                  "prediction does not depend on where or at what angle it lies on the bed")
       ->capture_default_str();
   sub->add_option("--min-cover", o->min_cover,
                   "G-code only: the share of a face a layer's beads must cover for the layer to "
@@ -395,9 +444,12 @@ Command make_simulate_command(CLI::App& app, const GlobalOptions& global) {
                   "target.ply (also simulates from flat and warns if the two end differently)")
       ->capture_default_str();
   sub->add_option("--target", o->target_path,
-                  "Target shape (target.ply) to measure the predicted shape against: adds the "
-                  "per-vertex property deviation_mm and prints the distances (a shape simulated "
-                  "from flat is first moved rigidly onto the target)");
+                  "Target shape to measure the predicted shape against (adds the per-vertex "
+                  "property deviation_mm and prints the distances; a shape simulated from flat is "
+                  "first moved rigidly onto the target). For flat.ply or a G-code with --plate: "
+                  "the target.ply with the plate's vertices, compared vertex by vertex; for a "
+                  "G-code on its footprint: any triangle mesh, compared by shape (each vertex to "
+                  "the nearest point of the target's surface after the best rigid fit)");
   sub->add_option("-o,--output", o->output,
                   "Predicted shape (.ply), same vertex and face order; for a G-code file also a "
                   "run folder of the same name without .ply (flatmorph report shows it)")

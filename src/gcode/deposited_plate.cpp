@@ -6,6 +6,7 @@
 #include <cmath>
 #include <map>
 
+#include "common/angles.h"
 #include "common/error.h"
 #include "material/material.h"
 #include "mesh/topology.h"
@@ -109,6 +110,16 @@ Buckets bucket_samples(const std::vector<Eigen::Vector2d>& points, double size) 
   b.index.resize(points.size());
   for (size_t i = 0; i < points.size(); ++i) b.index[count[of[i]]++] = static_cast<int>(i);
   return b;
+}
+
+// The part's beads of the lowest layer that has any.
+std::vector<const DepositedBead*> first_layer_beads(const GcodeDeposition& deposition,
+                                                    const DepositedPlateOptions& options) {
+  std::vector<const DepositedBead*> beads = part_beads(deposition, options);
+  int first = deposition.num_layers;
+  for (const DepositedBead* bead : beads) first = std::min(first, bead->layer);
+  std::erase_if(beads, [&](const DepositedBead* b) { return b->layer != first; });
+  return beads;
 }
 
 double median_width(const std::vector<const DepositedBead*>& beads) {
@@ -256,12 +267,8 @@ std::vector<DepositedLayer> rasterize_deposition(const GcodeDeposition& depositi
 
 Eigen::AlignedBox2d first_layer_bounds(const GcodeDeposition& deposition,
                                        const DepositedPlateOptions& options) {
-  const std::vector<const DepositedBead*> beads = part_beads(deposition, options);
-  int first = deposition.num_layers;
-  for (const DepositedBead* bead : beads) first = std::min(first, bead->layer);
   Eigen::AlignedBox2d bounds;  // empty
-  for (const DepositedBead* bead : beads) {
-    if (bead->layer != first) continue;
+  for (const DepositedBead* bead : first_layer_beads(deposition, options)) {
     const Eigen::Vector2d w = Eigen::Vector2d::Constant(bead->width / 2);
     bounds.extend(Eigen::Vector2d(bead->start.head<2>() - w));
     bounds.extend(Eigen::Vector2d(bead->end.head<2>() - w));
@@ -271,6 +278,64 @@ Eigen::AlignedBox2d first_layer_bounds(const GcodeDeposition& deposition,
   return bounds;
 }
 
+PartFrame first_layer_frame(const GcodeDeposition& deposition,
+                            const DepositedPlateOptions& options) {
+  const std::vector<const DepositedBead*> beads = first_layer_beads(deposition, options);
+  PartFrame frame;
+  // Each bead as its rectangle, length × width: its area, centroid and second moments in closed
+  // form, so that the frame turns and moves with the beads exactly (no sampling on the bed).
+  double area = 0;
+  Eigen::Vector2d centroid = Eigen::Vector2d::Zero();
+  for (const DepositedBead* bead : beads) {
+    const double a = (bead->end - bead->start).head<2>().norm() * bead->width;
+    area += a;
+    centroid += a * (bead->start + bead->end).head<2>() / 2;
+  }
+  if (!(area > 0)) return frame;
+  centroid /= area;
+  // Σ ∫ (p − c)(p − c)ᵀ dA and, once the axis e is known, Σ ∫ (e · (p − c))³ dA.
+  auto bead_frame = [](const DepositedBead& bead, Eigen::Vector2d& along, Eigen::Vector2d& across,
+                       double& length) {
+    const Eigen::Vector2d d = (bead.end - bead.start).head<2>();
+    length = d.norm();
+    along = d / length;
+    across = Eigen::Vector2d(-along.y(), along.x());
+  };
+  Eigen::Matrix2d moment = Eigen::Matrix2d::Zero();
+  for (const DepositedBead* bead : beads) {
+    Eigen::Vector2d along, across;
+    double length = 0;
+    bead_frame(*bead, along, across, length);
+    const double a = length * bead->width;
+    const Eigen::Vector2d m = (bead->start + bead->end).head<2>() / 2 - centroid;
+    moment += a * (m * m.transpose() + length * length / 12 * along * along.transpose() +
+                   bead->width * bead->width / 12 * across * across.transpose());
+  }
+  double angle = std::atan2(2 * moment(0, 1), moment(0, 0) - moment(1, 1)) / 2;
+  Eigen::Vector2d axis(std::cos(angle), std::sin(angle));
+  double skew = 0;
+  for (const DepositedBead* bead : beads) {
+    Eigen::Vector2d along, across;
+    double length = 0;
+    bead_frame(*bead, along, across, length);
+    const double u = axis.dot((bead->start + bead->end).head<2>() / 2 - centroid);
+    const double s = axis.dot(along), t = axis.dot(across);
+    skew += length * bead->width *
+            (u * u * u + u * (s * s * length * length + t * t * bead->width * bead->width) / 4);
+  }
+  // The axis is a line; its sign follows the skew so that it turns with the part through any
+  // angle. A part symmetric about its centre has no skew but rounding's, which would pick a side
+  // at random between two files differing in rounding only: it points to +x (+y along the y axis)
+  // instead, and a turned file may mesh it from the other end, the same mesh turned half a turn.
+  const double spread = axis.dot(moment * axis) / area;  // mm²
+  const bool skewed = std::abs(skew) > 1e-6 * area * spread * std::sqrt(spread);
+  const bool backwards = skewed ? skew < 0 : axis.x() < -1e-9 || (axis.x() <= 1e-9 && axis.y() < 0);
+  if (backwards) angle += angle > 0 ? -kPi : kPi;
+  frame.origin = centroid;
+  frame.angle = angle;
+  return frame;
+}
+
 FootprintMesh footprint_plate(const GcodeDeposition& deposition, const std::string& source,
                               const DepositedPlateOptions& options) {
   if (!(options.resolution_mm > 0) || !std::isfinite(options.resolution_mm)) {
@@ -278,29 +343,49 @@ FootprintMesh footprint_plate(const GcodeDeposition& deposition, const std::stri
                     fmt::format("--resolution {}: give the plate mesh's edge length in mm (e.g. 1)",
                                 options.resolution_mm));
   }
-  const Eigen::AlignedBox2d bounds = first_layer_bounds(deposition, options);
-  if (bounds.isEmpty()) {
+  const std::vector<const DepositedBead*> first = first_layer_beads(deposition, options);
+  if (first.empty()) {
     throw UserError(ErrorCategory::kFormat,
                     fmt::format("{}: no bead of the part to take the plate's footprint from; give "
                                 "the plate mesh (--plate flat.ply)",
                                 source));
   }
-  std::vector<const DepositedBead*> beads = part_beads(deposition, options);
-  int first = deposition.num_layers;
-  for (const DepositedBead* bead : beads) first = std::min(first, bead->layer);
-  std::erase_if(beads, [&](const DepositedBead* b) { return b->layer != first; });
+  // The lattice is laid in the part's own frame: a file turned or moved on the bed gives the same
+  // mesh turned or moved. On the bed's axes a strip turned by 30° met the lattice in a staircase
+  // and bent across its edges and diagonals, which a triangle mesh can only do by stretching: 2 to
+  // 3 % less curvature, hundreds of times the membrane energy (docs/gcode.md).
+  FootprintMesh mesh;
+  mesh.frame = first_layer_frame(deposition, options);
+  const Eigen::Rotation2Dd to_bed(mesh.frame.angle);
+  const Eigen::Matrix2d to_part = to_bed.toRotationMatrix().transpose();
+  std::vector<DepositedBead> beads;  // the first layer in the part's frame
+  beads.reserve(first.size());
+  Eigen::AlignedBox2d bounds;
+  for (const DepositedBead* bead : first) {
+    DepositedBead b = *bead;
+    b.start.head<2>() = to_part * (bead->start.head<2>() - mesh.frame.origin);
+    b.end.head<2>() = to_part * (bead->end.head<2>() - mesh.frame.origin);
+    const Eigen::Vector2d w = Eigen::Vector2d::Constant(b.width / 2);
+    for (const Eigen::Vector3d& p : {b.start, b.end}) {
+      bounds.extend(Eigen::Vector2d(p.head<2>() - w));
+      bounds.extend(Eigen::Vector2d(p.head<2>() + w));
+    }
+    beads.push_back(std::move(b));
+  }
+  // As many cells along each axis as fit the beads' extent at about the resolution, so that a
+  // rectangular part is cells exactly and no face of its edge is partly printed.
   const double r = options.resolution_mm;
-  const Eigen::Vector2d lo = bounds.min(), hi = bounds.max();
-  const long i0 = static_cast<long>(std::floor(lo.x() / r)),
-             j0 = static_cast<long>(std::floor(lo.y() / r));
-  const long nx = static_cast<long>(std::floor(hi.x() / r)) - i0 + 1;
-  const long ny = static_cast<long>(std::floor(hi.y() / r)) - j0 + 1;
-  if (nx * ny > 4'000'000) {
+  const Eigen::Vector2d lo = bounds.min(), extent = bounds.sizes();
+  const double cells_x = std::max(1.0, std::round(extent.x() / r));
+  const double cells_y = std::max(1.0, std::round(extent.y() / r));
+  if (cells_x * cells_y > 4e6) {
     throw UserError(ErrorCategory::kOption,
                     fmt::format("--resolution {} mm: the footprint ({:.0f} x {:.0f} mm) would need "
-                                "{} cells; give a coarser resolution",
-                                r, hi.x() - lo.x(), hi.y() - lo.y(), nx * ny));
+                                "{:.0f} cells; give a coarser resolution",
+                                r, extent.x(), extent.y(), cells_x * cells_y));
   }
+  const long nx = static_cast<long>(cells_x), ny = static_cast<long>(cells_y);
+  const Eigen::Vector2d cell(extent.x() / cells_x, extent.y() / cells_y);
   // A cell is in when beads cover at least half of it (4 x 4 samples): a polygonal ring leaves
   // slivers between its chords and the next ring, which single points would fall into as holes.
   constexpr int kSub = 4;
@@ -310,8 +395,8 @@ FootprintMesh footprint_plate(const GcodeDeposition& deposition, const std::stri
     for (long i = 0; i < nx; ++i) {
       for (int b = 0; b < kSub; ++b) {
         for (int a = 0; a < kSub; ++a) {
-          samples.point.emplace_back((i0 + i + (a + 0.5) / kSub) * r,
-                                     (j0 + j + (b + 0.5) / kSub) * r);
+          samples.point.emplace_back(lo.x() + (i + (a + 0.5) / kSub) * cell.x(),
+                                     lo.y() + (j + (b + 0.5) / kSub) * cell.y());
         }
       }
     }
@@ -320,14 +405,14 @@ FootprintMesh footprint_plate(const GcodeDeposition& deposition, const std::stri
   std::vector<int> stamp(samples.point.size(), -1);
   std::vector<char> under(samples.point.size(), 0);
   int id = 0;
-  for (const DepositedBead* bead : beads) {
-    for_samples_under(*bead, samples, buckets, stamp, id++, [&](int i, double) { under[i] = 1; });
+  for (const DepositedBead& bead : beads) {
+    for_samples_under(bead, samples, buckets, stamp, id++, [&](int i, double) { under[i] = 1; });
   }
   std::vector<char> in(nx * ny, 0);
-  for (long cell = 0; cell < nx * ny; ++cell) {
+  for (long c = 0; c < nx * ny; ++c) {
     int count = 0;
-    for (int k = 0; k < kSub * kSub; ++k) count += under[cell * kSub * kSub + k];
-    in[cell] = 2 * count >= kSub * kSub;
+    for (int k = 0; k < kSub * kSub; ++k) count += under[c * kSub * kSub + k];
+    in[c] = 2 * count >= kSub * kSub;
   }
   std::vector<int> vertex((nx + 1) * (ny + 1), -1);
   std::vector<Eigen::Vector2d> points;
@@ -335,7 +420,8 @@ FootprintMesh footprint_plate(const GcodeDeposition& deposition, const std::stri
     int& v = vertex[j * (nx + 1) + i];
     if (v < 0) {
       v = static_cast<int>(points.size());
-      points.emplace_back((i0 + i) * r, (j0 + j) * r);
+      points.push_back(mesh.frame.origin +
+                       to_bed * Eigen::Vector2d(lo.x() + i * cell.x(), lo.y() + j * cell.y()));
     }
     return v;
   };
@@ -357,8 +443,8 @@ FootprintMesh footprint_plate(const GcodeDeposition& deposition, const std::stri
   }
   if (faces.empty()) {
     throw UserError(ErrorCategory::kOption,
-                    fmt::format("{}: at --resolution {} mm no cell centre lies under the first "
-                                "layer; give a finer resolution",
+                    fmt::format("{}: at --resolution {} mm the first layer covers no cell of "
+                                "the plate's lattice by half; give a finer resolution",
                                 source, r));
   }
   Eigen::MatrixXi F(faces.size(), 3);
@@ -368,7 +454,6 @@ FootprintMesh footprint_plate(const GcodeDeposition& deposition, const std::stri
   std::vector<int> size(num_components, 0);
   for (Eigen::Index f = 0; f < F.rows(); ++f) ++size[component(f)];
   const int largest = static_cast<int>(std::max_element(size.begin(), size.end()) - size.begin());
-  FootprintMesh mesh;
   std::vector<int> new_index(points.size(), -1);
   std::vector<Eigen::Vector3i> kept;
   int num_vertices = 0;

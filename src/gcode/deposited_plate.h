@@ -47,18 +47,35 @@ std::vector<DepositedLayer> rasterize_deposition(const GcodeDeposition& depositi
                                                  const DepositedPlateOptions& options = {});
 
 // The bounding box (bed coordinates, mm) of the part's beads in the lowest layer that has any,
-// each widened by half its width: what a plate is placed by and a footprint meshed over. Empty
-// when the file has no part bead.
+// each widened by half its width: what a plate mesh is placed by. Empty when the file has no part
+// bead.
 Eigen::AlignedBox2d first_layer_bounds(const GcodeDeposition& deposition,
                                        const DepositedPlateOptions& options = {});
 
-// The plate mesh of a file printed without one: the cells of a square lattice of
-// `options.resolution_mm` whose centre lies under a bead of the first layer, each split into two
-// triangles, the largest edge-connected piece kept. #V x 2 bed coordinates. Throws UserError when
-// the first layer covers no cell (a resolution coarser than the part).
+// The part's own frame on the bed: the centroid of its first layer's beads (each bead as its
+// length × width rectangle) and their principal axis of greatest extent, pointing to the side their
+// area is skewed to (for a part symmetric about its centre, toward the bed's +x, or +y when
+// across it). It turns and moves with the file, so a plate meshed in it does too. Origin in bed
+// coordinates, mm; angle of the part's x axis from the bed's +x, rad. The bed's frame when the
+// file has no part bead.
+struct PartFrame {
+  Eigen::Vector2d origin{0, 0};
+  double angle = 0;
+};
+PartFrame first_layer_frame(const GcodeDeposition& deposition,
+                            const DepositedPlateOptions& options = {});
+
+// The plate mesh of a file printed without one, the first layer's footprint: a lattice laid in
+// the part's frame over the extent of its first layer's beads (each widened by half its width),
+// with as many cells along each axis as make them about `options.resolution_mm` (so the cells of
+// a rectangular part fit it exactly); the cells the first layer covers at least half of, each
+// split into two triangles (diagonals alternating), the largest edge-connected piece kept. #V x 2
+// bed coordinates. Throws UserError when the file has no part bead, or when the first layer
+// covers no cell by half (beads sparser than the resolution, a lattice's lines far apart).
 struct FootprintMesh {
   Eigen::MatrixXd V;
   Eigen::MatrixXi F;
+  PartFrame frame;  // the frame the lattice was laid in
 };
 FootprintMesh footprint_plate(const GcodeDeposition& deposition, const std::string& source,
                               const DepositedPlateOptions& options = {});

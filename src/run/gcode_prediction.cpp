@@ -35,6 +35,7 @@ GcodePrediction predict_from_gcode(std::string_view text, const std::string& sou
     }
   } else {
     FootprintMesh footprint = footprint_plate(deposition, source, options.deposit);
+    out.footprint_frame = footprint.frame;
     V = std::move(footprint.V);
     F = std::move(footprint.F);
   }

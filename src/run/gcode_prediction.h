@@ -36,6 +36,9 @@ struct GcodePrediction {
   // centres the plate mesh's bounding box on the first layer's beads; 0 for a footprint.
   Eigen::Vector2d plate_to_bed{0, 0};
   bool placed_by_header = false;
+  // The part's frame the footprint was meshed in (gcode/deposited_plate.h); the bed's frame when
+  // a plate mesh was given.
+  PartFrame footprint_frame;
   SimulationResult result;  // on the kept vertices (plate.kept_vertices of plate_V)
   int num_beads = 0;
   double read_seconds = 0, rasterize_seconds = 0;

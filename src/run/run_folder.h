@@ -33,9 +33,11 @@ struct RunFile {
 };
 
 struct RunOutputs {
-  std::string method;                      // "shrink_morph", ...
-  PlateDesign plate;                       // flat.ply + flat.stack.json
-  std::optional<Mesh> target;              // target.ply (mm, the plate's vertex and face order)
+  std::string method;  // "shrink_morph", ...
+  PlateDesign plate;   // flat.ply + flat.stack.json
+  // target.ply (mm): the plate's vertex and face order, or, for a G-code compared by shape, the
+  // target mesh as given.
+  std::optional<Mesh> target;
   std::optional<Mesh> predicted;           // simulated.ply: the predicted shape (mm) ...
   Eigen::VectorXd predicted_deviation_mm;  // ... and its per-vertex distance to the target
   // gcode_simulated.ply: the shape predicted from the run's own plate.gcode (gcode_prediction.h),

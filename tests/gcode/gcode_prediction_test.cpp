@@ -1,6 +1,7 @@
 // The shape predicted from a G-code file (src/run/gcode_prediction.h), with files written here by
 // the tests, not by the design pipeline: a strip printed along its length curls as the
-// calibration strip does, the same file turned by 30° curls the same way, rings make a dome,
+// calibration strip does, the same file turned or moved on the bed curls the same way (on the
+// turned plate, or on the footprint it meshes itself), rings make a dome,
 // radial lines a saddle, PLA printed on TPU bends as Timoshenko's bilayer.
 #include "run/gcode_prediction.h"
 
@@ -14,11 +15,13 @@
 #include <string>
 #include <vector>
 
+#include "common/angles.h"
 #include "mesh/operators.h"
 #include "mesh/topology.h"
 #include "plate/plate_fixtures.h"
 #include "simulate/distance.h"
 #include "simulate/shape_fits.h"
+#include "simulate/surface_fit.h"
 #include "test_support.h"
 
 namespace flatmorph::gcode_prediction_test {
@@ -64,11 +67,13 @@ Eigen::Vector2d turned(const Eigen::Vector2d& p, double angle) {
                          std::sin(angle) * p.x() + std::cos(angle) * p.y());
 }
 
-// Lines along x filling [−a, a] × [−b, b] at the bead width, each its own path, turned by `angle`.
-std::vector<Polyline> strip_lines(double a, double b, double angle) {
+// Lines along x filling [−a, a] × [−b, b] at the bead width, each its own path, turned by `angle`
+// and then moved by `shift` (mm).
+std::vector<Polyline> strip_lines(double a, double b, double angle,
+                                  const Eigen::Vector2d& shift = Eigen::Vector2d::Zero()) {
   std::vector<Polyline> lines;
   for (double y = -b + kWidth / 2; y < b; y += kWidth) {
-    lines.push_back({turned({-a, y}, angle), turned({a, y}, angle)});
+    lines.push_back({turned({-a, y}, angle) + shift, turned({a, y}, angle) + shift});
   }
   return lines;
 }
@@ -84,21 +89,22 @@ GcodePrediction predict(const std::string& gcode, const std::vector<Material>& m
 }
 
 // The curvature of the circle through the predicted points whose plate position lies within
-// 0.6 mm of the line through the origin along `direction` and within `half` of the origin.
-double curvature_along(const GcodePrediction& p, const Eigen::Vector2d& direction, double half) {
+// 0.6 mm of the line through `centre` along `direction` and within `half` of the centre.
+double curvature_along(const GcodePrediction& p, const Eigen::Vector2d& direction, double half,
+                       const Eigen::Vector2d& centre = Eigen::Vector2d::Zero()) {
   std::vector<int> line;
   const Eigen::MatrixXd& plate = p.plate.design.plate;
   for (Eigen::Index v = 0; v < plate.rows(); ++v) {
-    const Eigen::Vector2d q = plate.row(v).transpose();
+    const Eigen::Vector2d q = plate.row(v).transpose() - centre;
     const double along = q.dot(direction);
     const double off = std::abs(q.x() * direction.y() - q.y() * direction.x());
     if (off < 0.6 && std::abs(along) < half) line.push_back(static_cast<int>(v));
   }
-  EXPECT_GT(line.size(), 20u);
+  EXPECT_GT(line.size(), 8u);
   Eigen::MatrixXd P(line.size(), 3);
   for (size_t i = 0; i < line.size(); ++i) P.row(i) = p.result.V.row(line[i]);
-  Eigen::Vector3d centre;
-  return testing::fitted_circle_curvature(P, centre);
+  Eigen::Vector3d axis_point;
+  return testing::fitted_circle_curvature(P, axis_point);
 }
 
 // Integrated Gaussian curvature (sum of angle defects) of the vertices within `radius` of the
@@ -140,6 +146,66 @@ TEST(GcodePrediction, AStripPrintedAlongItsLengthCurlsAsTheCalibrationStrip) {
   // sampled at other points.
   EXPECT_LT(d.mean_percent, 0.02);
   EXPECT_LT(d.max_percent, 0.3);
+}
+
+// A slicer lays a part anywhere on the bed at any angle: the plate meshed from its footprint turns
+// and moves with it, so the prediction does too. A 60 x 12 mm strip of 5 layers along its length
+// turned by 0°, 7°, 30° and 45°: the same curvature, κ = −Δλ1 / (h λ3 λ1), and the same shape.
+TEST(GcodePrediction, AStripTurnedOnTheBedCurlsTheSameWhateverTheAngle) {
+  const Material pla = load_material("pla-paper");
+  const int layers = 5;
+  const double h = layers * pla.layer_height;
+  const double expected = -pla.delta_lambda1 / (h * pla.lambda3 * pla.lambda1);
+  GcodePrediction straight;
+  for (const double degrees : {0.0, 7.0, 30.0, 45.0}) {
+    const double angle = degrees * kDegree;
+    const GcodePrediction p =
+        predict(write_gcode(stack_of(strip_lines(30, 6, angle), layers, pla.layer_height)), {pla});
+    ASSERT_TRUE(p.result.converged) << degrees << "°: " << p.result.warning;
+    const double kappa = curvature_along(p, turned({1, 0}, angle), 25);
+    // Across the strip it stays straight.
+    const double across = curvature_along(p, turned({0, 1}, angle), 5);
+    std::cout << degrees << "°: κ " << kappa << " /mm along (" << expected << " expected), "
+              << across << " across; energy " << p.result.energy << " mJ (membrane "
+              << p.result.membrane_energy << ")\n";
+    EXPECT_NEAR(kappa, expected, 0.03 * expected) << degrees << "°";
+    EXPECT_LT(std::abs(across), 0.02 * expected) << degrees << "°";
+    if (degrees == 0) {
+      straight = p;
+      continue;
+    }
+    EXPECT_EQ(p.plate.design.F.rows(), straight.plate.design.F.rows()) << degrees << "°";
+    const ShapeDistance d = closest_point_rigid_fit(p.result.V, p.plate.design.F, straight.result.V,
+                                                    straight.plate.design.F)
+                                .distance;
+    std::cout << "  to the straight strip's shape: " << d.mean_percent << " / " << d.max_percent
+              << " % of the diagonal\n";
+    EXPECT_LT(d.max_percent, 0.5) << degrees << "°";
+  }
+}
+
+// The same strip moved about the bed, and moved and turned: the same shape.
+TEST(GcodePrediction, AStripMovedOnTheBedCurlsTheSame) {
+  const Material pla = load_material("pla-paper");
+  const int layers = 5;
+  const auto strip = [&](double angle, const Eigen::Vector2d& shift) {
+    return predict(
+        write_gcode(stack_of(strip_lines(30, 6, angle, shift), layers, pla.layer_height)), {pla});
+  };
+  const GcodePrediction here = strip(0, {0, 0});
+  for (const auto& [angle, shift] : {std::pair{0.0, Eigen::Vector2d(37.3, -12.9)},
+                                     std::pair{0.52, Eigen::Vector2d(101.7, 55.2)}}) {
+    const GcodePrediction there = strip(angle, shift);
+    ASSERT_TRUE(there.result.converged) << there.result.warning;
+    ASSERT_EQ(there.plate.design.F.rows(), here.plate.design.F.rows());
+    // The lattice moved with the part, so the shape is the same to rounding. (A part symmetric
+    // about its centre may be meshed from either end: the same mesh, its vertices in another
+    // order, hence the comparison by closest points.)
+    const ShapeDistance d = closest_point_rigid_fit(there.result.V, there.plate.design.F,
+                                                    here.result.V, here.plate.design.F)
+                                .distance;
+    EXPECT_LT(d.max_percent, 1e-4) << "moved by " << shift.transpose() << ", turned by " << angle;
+  }
 }
 
 // Rings shrink around and grow across: the disk's circumference gets short for its radius, a dome
