@@ -3,6 +3,7 @@
 #include <fmt/core.h>
 
 #include <cmath>
+#include <numbers>
 
 #include "common/error.h"
 #include "common/stopwatch.h"
@@ -54,6 +55,10 @@ void check_options(ShrinkMorphRunOptions& o, const RunInput& input) {
                  fmt::format("--wM {} / --wL {}: the theta2 regularization weights must be 0 or "
                              "positive (default 0.01)",
                              o.w_M, o.w_L));
+  require_option(std::isfinite(o.path_error_deg) && o.path_error_deg >= 0 && o.path_error_deg <= 45,
+                 fmt::format("--path-error {}: give the paths' angle error in degrees, 0 (off) to "
+                             "45 (default 2.3)",
+                             o.path_error_deg));
   require_option(
       o.faces >= 1 && o.faces <= kMaxFaces,
       fmt::format("--faces {}: the face count must be between 1 and {}", o.faces, kMaxFaces));
@@ -82,6 +87,11 @@ nlohmann::ordered_json design_metrics(const DesignMetrics& m) {
   j["optim_converged"] = m.optim_converged;
   j["coarse_faces"] = m.coarse_faces;
   j["first_pass_iterations"] = m.first_pass_iterations;
+  j["path_error_dist_avg_pct"] = m.path_error_dist_avg_pct;
+  j["path_error_dist_max_pct"] = m.path_error_dist_max_pct;
+  j["path_error_redesigned"] = m.path_error_redesigned;
+  j["path_error_redesign_avg_pct"] = m.path_error_redesign_avg_pct;
+  j["path_error_redesign_max_pct"] = m.path_error_redesign_max_pct;
   return j;
 }
 
@@ -94,6 +104,7 @@ nlohmann::ordered_json design_parameters(const ShrinkMorphSetup& setup, const De
   j["w_D"] = o.w_D;
   j["w_M"] = o.w_M;
   j["w_L"] = o.w_L;
+  j["path_error_deg"] = o.path_error_deg;
   j["faces_requested"] = o.faces;
   j["layers"] = o.layers;
   j["layer_height_mm"] = material.layer_height;
@@ -204,6 +215,7 @@ ShrinkMorphState design_run(const ShrinkMorphSetup& setup, const ProgressCallbac
   options.material = setup.material;
   options.optimize.w_M = o.w_M;
   options.optimize.w_L = o.w_L;
+  options.optimize.path_error_rad = o.path_error_deg * std::numbers::pi / 180;
   options.progress = progress;
   ShrinkMorphState state;
   state.design = design_shrink_morph(std::move(mesh), describe(setup.input), options);

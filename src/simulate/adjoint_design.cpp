@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <utility>
 
 #include "common/stopwatch.h"
@@ -61,8 +62,10 @@ struct ObjectiveValue {
 // constraint fixes coordinates that are exactly zero.
 class AdjointDesignSolver {
  public:
-  AdjointDesignSolver(const AdjointDesignProblem& problem, const AdjointDesignOptions& options)
-      : problem_(problem), options_(options) {
+  // `perturbation` (may be null: the nominal stack) changes every stack printed for the variables.
+  AdjointDesignSolver(const AdjointDesignProblem& problem, const AdjointDesignOptions& options,
+                      const std::function<void(LayerStack&)>* perturbation = nullptr)
+      : problem_(problem), options_(options), perturbation_(perturbation) {
     nv_ = static_cast<int>(problem.plate.rows());
     const RestForms reference = laminate(problem.layer_stack(problem.reference_variables));
     energy_ = make_plate_energy(problem.plate, problem.F, reference);
@@ -121,6 +124,7 @@ class AdjointDesignSolver {
   // iteration cap.
   NewtonResult forward(const Eigen::VectorXd& p, Eigen::VectorXd start, bool trial = false) {
     stack_ = problem_.layer_stack(p);
+    if (perturbation_ != nullptr) (*perturbation_)(stack_);
     set_rest_forms(energy_, laminate(stack_));
     for (int i : frame_.fixed_variables) start(i) = 0;
     NewtonProblem newton;
@@ -141,8 +145,8 @@ class AdjointDesignSolver {
     return r;
   }
 
-  // E at the equilibrium x. The terms are summed in the order D, mass, Laplacian.
-  ObjectiveValue objective(const Eigen::VectorXd& x, const Eigen::VectorXd& p) const {
+  // D at the equilibrium x.
+  double distance(const Eigen::VectorXd& x) const {
     double distance = 0;
     if (options_.best_rigid_motion) {
       const RigidFit fit = weighted_rigid_fit(x, target_, mass_);
@@ -156,14 +160,23 @@ class AdjointDesignSolver {
         distance += mass_(v) * (x.segment<3>(3 * v) - target_.segment<3>(3 * v)).squaredNorm();
       }
     }
+    return distance_weight_ * distance;
+  }
+
+  // E from its distance term D. The terms are summed in the order D, mass, Laplacian.
+  ObjectiveValue objective(double distance, const Eigen::VectorXd& p) const {
     ObjectiveValue value;
-    value.distance = distance_weight_ * distance;
+    value.distance = distance;
     value.total = value.distance;
     if (options_.mass_weight != 0) {
       value.total += options_.mass_weight * p.dot(mass_.cwiseProduct(p)) / area_;
     }
     value.total += options_.laplacian_weight * p.dot(laplacian_ * p);
     return value;
+  }
+
+  ObjectiveValue objective(const Eigen::VectorXd& x, const Eigen::VectorXd& p) const {
+    return objective(distance(x), p);
   }
 
   // Factorizes H at x (the energy's current variables) with the fixed variables decoupled (unit
@@ -263,6 +276,7 @@ class AdjointDesignSolver {
  private:
   const AdjointDesignProblem& problem_;
   const AdjointDesignOptions& options_;
+  const std::function<void(LayerStack&)>* perturbation_;
   int nv_ = 0;
   PlateEnergy energy_;
   LayerStack stack_;  // printed for the energy's current variables
@@ -281,6 +295,77 @@ class AdjointDesignSolver {
   bool use_forward_factorization_ = false;
   double forward_seconds_ = 0;
   int shifted_factorizations_ = 0;
+};
+
+// The nominal stack and each perturbed one (AdjointDesignProblem::perturbations), each with its
+// own equilibrium followed along the optimization: D, its gradient and the Gauss–Newton product
+// are their means. With no perturbation this is the nominal solver alone, bit for bit.
+class DesignScenarios {
+ public:
+  DesignScenarios(const AdjointDesignProblem& problem, const AdjointDesignOptions& options) {
+    solvers_.push_back(std::make_unique<AdjointDesignSolver>(problem, options));
+    for (const auto& perturbation : problem.perturbations) {
+      solvers_.push_back(std::make_unique<AdjointDesignSolver>(problem, options, &perturbation));
+    }
+  }
+
+  int size() const { return static_cast<int>(solvers_.size()); }
+  AdjointDesignSolver& nominal() { return *solvers_.front(); }
+
+  // Every scenario's equilibrium for p, scenario j from starts[j] (in the frame); the results.
+  std::vector<NewtonResult> forward(const Eigen::VectorXd& p,
+                                    const std::vector<Eigen::VectorXd>& starts, bool trial) {
+    std::vector<NewtonResult> results;
+    for (int j = 0; j < size(); ++j) results.push_back(solvers_[j]->forward(p, starts[j], trial));
+    return results;
+  }
+
+  ObjectiveValue objective(const std::vector<Eigen::VectorXd>& x, const Eigen::VectorXd& p) const {
+    double distance = solvers_[0]->distance(x[0]);
+    for (int j = 1; j < size(); ++j) distance += solvers_[j]->distance(x[j]);
+    return solvers_[0]->objective(distance / size(), p);
+  }
+
+  bool linearize(const std::vector<Eigen::VectorXd>& x) {
+    for (int j = 0; j < size(); ++j) {
+      if (!solvers_[j]->linearize(x[j])) return false;
+    }
+    return true;
+  }
+
+  // The mean of the scenarios' gradients (each carries the same regularizer's).
+  Eigen::VectorXd gradient(const std::vector<Eigen::VectorXd>& x, const Eigen::VectorXd& p) const {
+    Eigen::VectorXd g = solvers_[0]->gradient(x[0], p);
+    for (int j = 1; j < size(); ++j) g += solvers_[j]->gradient(x[j], p);
+    return g / size();
+  }
+
+  Eigen::VectorXd gauss_newton_product(const Eigen::VectorXd& v) const {
+    Eigen::VectorXd product = solvers_[0]->gauss_newton_product(v);
+    for (int j = 1; j < size(); ++j) product += solvers_[j]->gauss_newton_product(v);
+    return product / size();
+  }
+
+  // Each scenario's S v.
+  std::vector<Eigen::VectorXd> sensitivity(const Eigen::VectorXd& v) const {
+    std::vector<Eigen::VectorXd> dx;
+    for (const auto& solver : solvers_) dx.push_back(solver->sensitivity(v));
+    return dx;
+  }
+
+  double forward_seconds() const {
+    double seconds = 0;
+    for (const auto& solver : solvers_) seconds += solver->forward_seconds();
+    return seconds;
+  }
+  int shifted_factorizations() const {
+    int count = 0;
+    for (const auto& solver : solvers_) count += solver->shifted_factorizations();
+    return count;
+  }
+
+ private:
+  std::vector<std::unique_ptr<AdjointDesignSolver>> solvers_;
 };
 
 }  // namespace
@@ -329,16 +414,23 @@ AdjointEvaluation evaluate_adjoint_design(const AdjointDesignProblem& problem,
                                           const Eigen::VectorXd& variables,
                                           const Eigen::MatrixXd& start,
                                           const AdjointDesignOptions& options, bool with_gradient) {
-  AdjointDesignSolver solver(problem, options);
-  const NewtonResult r =
-      solver.forward(variables, solver.start_in_frame(start.size() ? start : problem.start));
+  DesignScenarios scenarios(problem, options);
+  AdjointDesignSolver& solver = scenarios.nominal();
+  const std::vector<NewtonResult> r = scenarios.forward(
+      variables,
+      std::vector<Eigen::VectorXd>(scenarios.size(),
+                                   solver.start_in_frame(start.size() ? start : problem.start)),
+      false);
   AdjointEvaluation out;
-  out.forward_converged = forward_ok(r);
-  const ObjectiveValue value = solver.objective(r.x, variables);
+  out.forward_converged =
+      std::all_of(r.begin(), r.end(), [](const NewtonResult& e) { return forward_ok(e); });
+  std::vector<Eigen::VectorXd> x;
+  for (const NewtonResult& e : r) x.push_back(e.x);
+  const ObjectiveValue value = scenarios.objective(x, variables);
   out.objective = value.total;
   out.distance_term = value.distance;
-  out.V = solver.from_frame(r.x);
-  if (with_gradient && solver.linearize(r.x)) out.gradient = solver.gradient(r.x, variables);
+  out.V = solver.from_frame(x.front());
+  if (with_gradient && scenarios.linearize(x)) out.gradient = scenarios.gradient(x, variables);
   return out;
 }
 
@@ -346,19 +438,24 @@ AdjointDesignResult optimize_adjoint_design(const AdjointDesignProblem& problem,
                                             const Eigen::VectorXd& variables,
                                             const AdjointDesignOptions& options) {
   const auto t0 = Clock::now();
-  AdjointDesignSolver solver(problem, options);
+  DesignScenarios scenarios(problem, options);
+  AdjointDesignSolver& solver = scenarios.nominal();
   const int nv = static_cast<int>(problem.plate.rows());
   const DesignBounds& bounds = problem.bounds;
   Eigen::VectorXd p = solver.project(variables);
   AdjointDesignResult out;
-  const NewtonResult initial = solver.forward(p, solver.start_in_frame(problem.start));
-  out.initial_forward_converged = forward_ok(initial);
-  out.initial_forward_status = initial.status;
-  out.initial_forward_warning = initial.warning;
-  Eigen::VectorXd x = initial.x;
-  out.initial_V = solver.from_frame(x);
+  const std::vector<NewtonResult> initial = scenarios.forward(
+      p, std::vector<Eigen::VectorXd>(scenarios.size(), solver.start_in_frame(problem.start)),
+      false);
+  out.initial_forward_converged = std::all_of(initial.begin(), initial.end(),
+                                              [](const NewtonResult& r) { return forward_ok(r); });
+  out.initial_forward_status = initial.front().status;
+  out.initial_forward_warning = initial.front().warning;
+  std::vector<Eigen::VectorXd> x;
+  for (const NewtonResult& r : initial) x.push_back(r.x);
+  out.initial_V = solver.from_frame(x.front());
   out.initial_seconds = seconds_since(t0);
-  ObjectiveValue value = solver.objective(x, p);
+  ObjectiveValue value = scenarios.objective(x, p);
   out.initial_objective = value.total;
   out.initial_distance_term = value.distance;
   out.stop = AdjointStop::kIterationLimit;
@@ -382,14 +479,14 @@ AdjointDesignResult optimize_adjoint_design(const AdjointDesignProblem& problem,
       if (options.progress) options.progress(record);
       if (stop != AdjointStop::kNone) out.stop = stop;
     };
-    const int shifted_before = solver.shifted_factorizations();
-    const bool linearized = solver.linearize(x);
-    record.shifted_hessian = solver.shifted_factorizations() > shifted_before;
+    const int shifted_before = scenarios.shifted_factorizations();
+    const bool linearized = scenarios.linearize(x);
+    record.shifted_hessian = scenarios.shifted_factorizations() > shifted_before;
     if (!linearized) {
       report(AdjointStop::kUnstable);
       break;
     }
-    const Eigen::VectorXd g = solver.gradient(x, p);
+    const Eigen::VectorXd g = scenarios.gradient(x, p);
     if (!g.allFinite() || !std::isfinite(value.total)) {
       // Keep the last finite state rather than report a stationary point of NaNs.
       report(AdjointStop::kNotFinite);
@@ -409,10 +506,10 @@ AdjointDesignResult optimize_adjoint_design(const AdjointDesignProblem& problem,
     record.cg_iterations = conjugate_gradient(
         [&](const Eigen::VectorXd& v) {
           return Eigen::VectorXd(
-              solver.gauss_newton_product(v.cwiseProduct(free)).cwiseProduct(free));
+              scenarios.gauss_newton_product(v.cwiseProduct(free)).cwiseProduct(free));
         },
         -g.cwiseProduct(free), options.cg_tolerance, options.max_cg_iterations, direction);
-    const Eigen::VectorXd dx = solver.sensitivity(direction);
+    const std::vector<Eigen::VectorXd> dx = scenarios.sensitivity(direction);
     out.cg_seconds += seconds_since(t_cg);
     const double slope = g.dot(direction);
     record.decrement = -0.5 * slope;
@@ -437,16 +534,24 @@ AdjointDesignResult optimize_adjoint_design(const AdjointDesignProblem& problem,
       // Projected onto the bounds, which only shortens some components of the step.
       const Eigen::VectorXd trial_p = solver.project(p + step * direction);
       // Warm start at the linear prediction x + s S Δp.
-      const NewtonResult trial = solver.forward(trial_p, x + step * dx, true);
+      std::vector<Eigen::VectorXd> starts;
+      for (int j = 0; j < scenarios.size(); ++j) starts.push_back(x[j] + step * dx[j]);
+      const std::vector<NewtonResult> trial = scenarios.forward(trial_p, starts, true);
       ++record.line_search_trials;
-      record.forward_iterations += trial.iterations;
-      out.forward_iterations += trial.iterations;
-      if (!forward_ok(trial)) continue;
-      const ObjectiveValue trial_value = solver.objective(trial.x, trial_p);
+      bool trial_ok = true;
+      std::vector<Eigen::VectorXd> trial_x;
+      for (const NewtonResult& r : trial) {
+        record.forward_iterations += r.iterations;
+        out.forward_iterations += r.iterations;
+        trial_ok = trial_ok && forward_ok(r);
+        trial_x.push_back(r.x);
+      }
+      if (!trial_ok) continue;
+      const ObjectiveValue trial_value = scenarios.objective(trial_x, trial_p);
       if (trial_value.total <= value.total + options.armijo_constant * g.dot(trial_p - p)) {
         accepted = true;
         p = trial_p;
-        x = trial.x;
+        x = std::move(trial_x);
         value = trial_value;
         trust_radius = std::min(options.max_step, (k == 0 ? 2.0 : 1.0) * step * direction_max);
         break;
@@ -477,12 +582,12 @@ AdjointDesignResult optimize_adjoint_design(const AdjointDesignProblem& problem,
                   out.stop == AdjointStop::kSmallDecrement ||
                   out.stop == AdjointStop::kSmallDecrease;
   out.variables = p;
-  out.V = solver.from_frame(x);
+  out.V = solver.from_frame(x.front());
   out.objective = value.total;
   out.distance_term = value.distance;
   out.vertices_at_bound = solver.count_at_bound(p);
-  out.forward_seconds = solver.forward_seconds();
-  out.shifted_factorizations = solver.shifted_factorizations();
+  out.forward_seconds = scenarios.forward_seconds();
+  out.shifted_factorizations = scenarios.shifted_factorizations();
   out.seconds = seconds_since(t0);
   return out;
 }

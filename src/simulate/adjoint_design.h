@@ -65,6 +65,12 @@ struct AdjointDesignProblem {
   DesignBounds bounds;
   // Where the first equilibrium is searched from (#V x 3, mm); empty: the target.
   Eigen::MatrixXd start;
+  // Printing errors the design must hold under (e.g. the paths' departures from the layer
+  // directions): each changes the printed stack in place. With any, D is the mean of the
+  // distances of the nominal stack's equilibrium and of each perturbed stack's, all solved from
+  // the same start and followed along the optimization, so that a design does not rest where a
+  // small printing error makes the plate snap to another shape (docs/design.md).
+  std::vector<std::function<void(LayerStack& stack)>> perturbations;
 };
 
 // How the optimization ended. Converged: kStationary, kSmallDecrement, kSmallDecrease.

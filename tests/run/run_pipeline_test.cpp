@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include <limits>
+
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
@@ -148,6 +150,18 @@ TEST(RunPipelineFolder, ABadOptionIsRefusedBeforeAnyWork) {
   }
   EXPECT_EQ(reports, 0);
   EXPECT_FALSE(fs::exists(request.output));
+  for (double error : {-1.0, 90.0, std::numeric_limits<double>::quiet_NaN()}) {
+    ShrinkMorphRunOptions bad;
+    bad.path_error_deg = error;
+    try {
+      run_design(example_request("dome", bad), control);
+      FAIL() << "--path-error " << error << " was accepted";
+    } catch (const UserError& e) {
+      EXPECT_EQ(e.category(), ErrorCategory::kOption);
+      EXPECT_NE(std::string(e.what()).find("--path-error"), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_EQ(reports, 0);
 }
 
 // A cancel from another thread (here: from the progress callback, after a few reports) stops the

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
 #include <vector>
 
 #include "material/material.h"
@@ -114,6 +115,81 @@ TEST(AdjointDesign, GradientMatchesCentralDifferencesOfTheObjective) {
       EXPECT_GT(std::abs(fd), 1e-3 * at.gradient.norm()) << "rigid " << rigid;
     }
   }
+}
+
+// Printing errors (AdjointDesignProblem::perturbations): a top layer that shrinks 0.002 more, and
+// one whose shrink varies along the strip. E's distance term is the mean of the three stacks'
+// distances, each measured by a problem that prints that stack alone, and the gradient of that
+// mean matches central differences.
+TEST(AdjointDesign, AveragesTheDistanceOverPerturbedStacksWithItsGradient) {
+  const TestPlate plate = rectangle_plate(40, 16, 8, 3);
+  const int nv = static_cast<int>(plate.V.rows());
+  const int nf = static_cast<int>(plate.F.rows());
+  AdjointDesignProblem problem =
+      bilayer_problem(plate, equilibrium(plate, ramp(plate, 0.002, 0.008)));
+  Eigen::VectorXd wavy(nf);
+  for (int f = 0; f < nf; ++f) wavy(f) = 0.0015 * std::sin(0.8 * f);
+  const std::vector<std::function<void(LayerStack&)>> errors = {
+      [](LayerStack& stack) { stack.layers[1].lambda1.array() -= 0.002; },
+      [wavy](LayerStack& stack) { stack.layers[1].lambda1 += wavy; }};
+  problem.perturbations = errors;
+  const Eigen::VectorXd p = ramp(plate, 0.006, 0.003);
+  AdjointDesignOptions options;
+  options.laplacian_weight = 1e5;
+  options.forward.relative_tolerance = 1e-20;
+  const AdjointEvaluation at = evaluate_adjoint_design(problem, p, problem.target, options);
+  ASSERT_TRUE(at.forward_converged);
+
+  double mean = 0;
+  for (int j = 0; j < 3; ++j) {
+    AdjointDesignProblem alone = problem;
+    alone.perturbations.clear();
+    if (j > 0) {
+      alone.layer_stack = [base = problem.layer_stack,
+                           error = errors[j - 1]](const Eigen::VectorXd& q) {
+        LayerStack stack = base(q);
+        error(stack);
+        return stack;
+      };
+    }
+    mean += evaluate_adjoint_design(alone, p, problem.target, options, false).distance_term / 3;
+  }
+  EXPECT_NEAR(at.distance_term, mean, 1e-9 * mean);
+  EXPECT_GT(at.distance_term, 1);
+
+  Eigen::VectorXd mixed(nv);
+  for (int v = 0; v < nv; ++v) mixed(v) = std::cos(0.9 * v) + 0.5;
+  const double h = 1e-6;
+  const double plus =
+      evaluate_adjoint_design(problem, p + h * mixed, at.V, options, false).objective;
+  const double minus =
+      evaluate_adjoint_design(problem, p - h * mixed, at.V, options, false).objective;
+  const double fd = (plus - minus) / (2 * h);
+  EXPECT_NEAR(at.gradient.dot(mixed), fd, 1e-4 * std::abs(fd));
+  EXPECT_GT(std::abs(fd), 1e-3 * at.gradient.norm());
+}
+
+// A perturbation that changes nothing leaves the optimization as it is, bit for bit: the mean of
+// equal terms is the term.
+TEST(AdjointDesign, AnErrorThatChangesNothingLeavesTheDesignAsItIs) {
+  const TestPlate plate = rectangle_plate(40, 16, 8, 3);
+  const int nv = static_cast<int>(plate.V.rows());
+  AdjointDesignProblem problem =
+      bilayer_problem(plate, equilibrium(plate, ramp(plate, 0.002, 0.008)));
+  AdjointDesignOptions options;
+  options.laplacian_weight = 1e-2;
+  options.max_step = 0.004;
+  options.min_step = 1e-6;
+  options.decrement_tolerance = 1e-4;
+  options.relative_decrease = 0;
+  const Eigen::VectorXd start = Eigen::VectorXd::Constant(nv, 0.005);
+  const AdjointDesignResult nominal = optimize_adjoint_design(problem, start, options);
+  problem.perturbations = {[](LayerStack&) {}};
+  const AdjointDesignResult twice = optimize_adjoint_design(problem, start, options);
+  EXPECT_GT(nominal.iterations, 1);
+  EXPECT_EQ(twice.iterations, nominal.iterations);
+  EXPECT_EQ(twice.objective, nominal.objective);
+  EXPECT_EQ(twice.variables, nominal.variables);
 }
 
 // The target is the equilibrium of a known p: from a uniform p the optimizer brings E down to a

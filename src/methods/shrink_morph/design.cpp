@@ -5,9 +5,12 @@
 #include <tbb/parallel_invoke.h>
 
 #include <Eigen/LU>
+#include <algorithm>
 #include <array>
 #include <cmath>
+#include <numbers>
 #include <optional>
+#include <utility>
 
 #include "common/error.h"
 #include "common/stopwatch.h"
@@ -16,6 +19,7 @@
 #include "mesh/subdivide.h"
 #include "mesh/topology.h"
 #include "plate/laminate.h"
+#include "simulate/distance.h"
 #include "simulate/simulate.h"
 
 namespace flatmorph {
@@ -322,7 +326,11 @@ Theta2Passes theta2_passes(const DesignOptions& options) {
   passes.first_pass.progress = nullptr;
   passes.first_pass.max_trial_forward_iterations = options.first_pass_trial_forward_iterations;
   passes.first_pass.min_step_rad = options.first_pass_min_step_rad;
+  // Both passes design for the nominal stack; the paths' errors come in only where the design
+  // does not hold under them (design_for_path_errors).
+  passes.first_pass.path_error_samples = 0;
   passes.design_pass = options.optimize;
+  passes.design_pass.path_error_samples = 0;
   if (!passes.design_pass.progress && options.progress) {
     passes.design_pass.progress = [progress = options.progress](const Theta2Iteration& it) {
       // The last record is the one whose prediction stopped the optimization: it takes no step.
@@ -447,6 +455,95 @@ double optimize_design_level(SideDesign& chosen, const std::optional<SideDesign>
   return 0;
 }
 
+// The mean over the probe's samples of the distances (avg, max; % of the target's diagonal) from
+// each equilibrium under path errors to `reference`, after the best rigid motion, and the largest
+// of the averages.
+struct ProbeDistance {
+  double mean_avg = 0, mean_max = 0, largest_avg = 0;
+};
+ProbeDistance probe_distance(const std::vector<Eigen::MatrixXd>& equilibria,
+                             const Eigen::MatrixXd& reference) {
+  ProbeDistance out;
+  for (const Eigen::MatrixXd& V : equilibria) {
+    const ShapeDistance d = shape_distance(rigidly_aligned(V, reference), reference);
+    out.mean_avg += d.mean_percent / static_cast<double>(equilibria.size());
+    out.mean_max += d.max_percent / static_cast<double>(equilibria.size());
+    out.largest_avg = std::max(out.largest_avg, d.mean_percent);
+  }
+  return out;
+}
+
+// The paths' errors a design is judged by: about 1° rms, correlated over a couple of rings of
+// faces. Simulated with this model, the paper's top lands 2.6 % / 27 % from the target (avg /
+// max of the diagonal), as its own plate.gcode does (2.9 % / 26 %), while uncorrelated errors of
+// 2.3° rms, what a face's beads read back show, move it by 0.8 % / 6 % (docs/design.md). Its
+// samples are independent of the optimization's.
+constexpr PathErrorModel kProbeModel{0.0175, 2, 100, 3};
+
+// How far (average, % of the diagonal) any of the probe's shapes may lie from the nominal
+// prediction before the design counts as resting at a fold: the bar the shape plate.gcode prints is
+// held to.
+constexpr double kFragileDesignPercent = 1.0;
+
+// The nominal design is simulated printed with the probe's path errors, from the target. When
+// those shapes lie more than kFragileDesignPercent from its prediction, the design sits at a fold
+// of its equilibria (every path a degree off turns the plate into another shape), and theta2 is
+// optimized again from zeros for the mean distance over the nominal stack and
+// OptimizeTheta2Options::path_error_samples samples of stronger, uncorrelated errors; the design
+// whose probe lands closer to the target on average is kept.
+void design_for_path_errors(SideDesign& chosen, const DesignOptions& options, Design& out) {
+  const OptimizeTheta2Options& robust = options.optimize;
+  if (robust.path_error_samples == 0 || robust.path_error_rad == 0) return;
+  DesignMetrics& m = out.metrics;
+  const Theta2Problem& problem = chosen.problem;
+  const auto probe = [&](const Theta2Result& design) {
+    return theta2_equilibria_under_path_errors(problem, design.theta2, kProbeModel, robust.forward);
+  };
+  const std::vector<Eigen::MatrixXd> nominal = probe(chosen.optimization);
+  const ProbeDistance to_target = probe_distance(nominal, problem.target);
+  m.path_error_dist_avg_pct = to_target.mean_avg;
+  m.path_error_dist_max_pct = to_target.mean_max;
+  // The largest: one print in a few snapping is one too many.
+  const double off_prediction = probe_distance(nominal, chosen.optimization.V).largest_avg;
+  report_stage(options, "path errors",
+               fmt::format("with paths {:.1f} degrees off (rms) the plate lands {:.2f} % from the "
+                           "prediction, {:.2f} % / {:.2f} % from the target (avg / max)",
+                           kProbeModel.rms_rad * 180 / std::numbers::pi, off_prediction,
+                           to_target.mean_avg, to_target.mean_max));
+  // A design level that started from the first pass's theta2 (no clear curvature: the paper's
+  // hat) stalls from zeros, under errors or not (1.56 % / 16.6 % from the target after 12
+  // iterations), so only designs that started from zeros are designed again.
+  if (off_prediction <= kFragileDesignPercent || problem.start.size() > 0) return;
+
+  report_stage(
+      options, "optimize theta2",
+      fmt::format("again, for the mean over the nominal stack and {} samples of paths "
+                  "{:.1f} degrees off",
+                  robust.path_error_samples, robust.path_error_rad * 180 / std::numbers::pi));
+  // Each iteration solves every sample's equilibrium: a budget of twice the nominal design's
+  // Newton iterations per stack (at least 100) keeps a design that stalls from running long.
+  OptimizeTheta2Options budgeted = robust;
+  int nominal_iterations = 0;
+  for (const Theta2Iteration& it : chosen.optimization.history) {
+    nominal_iterations += it.forward_iterations;
+  }
+  budgeted.max_forward_iterations =
+      2 * (robust.path_error_samples + 1) * std::max(nominal_iterations, 100);
+  Theta2Result redesign = optimize_theta2(problem, {}, budgeted);
+  const ProbeDistance redesigned = probe_distance(probe(redesign), problem.target);
+  m.path_error_redesign_avg_pct = redesigned.mean_avg;
+  m.path_error_redesign_max_pct = redesigned.mean_max;
+  // Kept when its printed shapes land closer to the target, and its own prediction no farther
+  // than they do (a prediction on a worse branch than its prints, as the paper's hat's redesign
+  // from zeros: 1.56 % / 16.6 % against 1.32 % / 6.0 %, is not a design to report).
+  const double predicted_avg = shape_distance(redesign.V, problem.target).mean_percent;
+  if (redesigned.mean_avg >= to_target.mean_avg || predicted_avg > redesigned.mean_avg) return;
+  m.path_error_redesigned = true;
+  m.path_error_dist_avg_pct = redesigned.mean_avg;
+  m.path_error_dist_max_pct = redesigned.mean_max;
+  chosen.optimization = std::move(redesign);
+}
+
 // The design's shapes, distances and Table 1's figures from the side chosen and optimized. The
 // optimization's time runs from `optimization_start`, less the flattening and the report's
 // simulation it interleaves with.
@@ -528,6 +625,7 @@ Design design_shrink_morph(Mesh target, const std::string& source, const DesignO
   } else {
     m.t_sim_s = t_report_sim;
   }
+  design_for_path_errors(chosen, options, out);
   record_design(out, std::move(chosen), flip, options, t_optim, flattening.seconds, t_report_sim);
   return out;
 }

@@ -80,6 +80,13 @@ struct DesignMetrics {
   int coarse_faces = 0;
   int first_pass_iterations = 0;
   bool optim_converged = false;
+  // The design printed with the paths' errors (OptimizeTheta2Options::path_error_rad): the mean
+  // over independent samples of the distances (avg, max, %) from the target, of the design kept.
+  // When the nominal design's shapes under them lay more than 1 % from its prediction, theta2 was
+  // optimized again for them: that design's figures, and whether it was kept (it lands closer).
+  double path_error_dist_avg_pct = 0, path_error_dist_max_pct = 0;
+  double path_error_redesign_avg_pct = 0, path_error_redesign_max_pct = 0;
+  bool path_error_redesigned = false;
 };
 
 // One design of a kEveryStretch run (the kept one among them).

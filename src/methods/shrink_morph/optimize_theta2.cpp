@@ -2,6 +2,10 @@
 
 #include <fmt/core.h>
 
+#include <Eigen/SparseCore>
+#include <cmath>
+#include <memory>
+#include <random>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -28,12 +32,42 @@ void check_theta2_problem(const Theta2Problem& problem, const OptimizeTheta2Opti
     throw UserError(ErrorCategory::kOption,
                     "theta2 optimization: w_M and w_L must be non-negative");
   }
+  if (!(options.path_error_rad >= 0 && options.path_error_rad < 1) ||
+      options.path_error_samples < 0) {
+    throw UserError(ErrorCategory::kOption,
+                    fmt::format("theta2 optimization: a path error of {} rad in {} samples: give "
+                                "0 to 1 rad (0: none) and 0 or more samples",
+                                options.path_error_rad, options.path_error_samples));
+  }
 }
 
 // θ2 as the shared solver's design variable: each face prints the mean of its corners', and
 // layer k of the stack turns by w_k θ2 (the stack builder's weights, plate/layer_stack.h), so the
 // laminate's derivative turns each layer at the rate w_k.
-AdjointDesignProblem theta2_design_problem(const Theta2Problem& problem) {
+// Per face and layer, seeded Gaussian angle errors of `rms` rad: one printing of the paths. With
+// smoothing passes (each the mean over a face's corners of their faces' means) the errors are
+// correlated over neighbouring faces, as a stripe pattern's drift is, then scaled back to `rms`.
+Eigen::MatrixXd path_angle_errors(const Eigen::MatrixXi& F, int num_vertices, int num_layers,
+                                  double rms, int smoothing_passes, int sample) {
+  std::mt19937_64 random(0x5eed0000 + sample);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  Eigen::MatrixXd errors(F.rows(), num_layers);
+  for (int k = 0; k < num_layers; ++k) {
+    for (int f = 0; f < F.rows(); ++f) errors(f, k) = normal(random);
+  }
+  if (smoothing_passes > 0) {
+    const Eigen::SparseMatrix<double> to_faces = face_average_matrix(F, num_vertices);
+    Eigen::SparseMatrix<double> to_vertices = to_faces.transpose();
+    const Eigen::VectorXd count = to_vertices * Eigen::VectorXd::Ones(F.rows());
+    to_vertices = count.cwiseInverse().asDiagonal() * to_vertices;
+    for (int pass = 0; pass < smoothing_passes; ++pass) errors = to_faces * (to_vertices * errors);
+  }
+  const double current = std::sqrt(errors.squaredNorm() / static_cast<double>(errors.size()));
+  return current > 0 ? Eigen::MatrixXd(errors * (rms / current)) : errors;
+}
+
+AdjointDesignProblem theta2_design_problem(const Theta2Problem& problem,
+                                           const OptimizeTheta2Options& options) {
   AdjointDesignProblem design;
   design.plate = problem.plate;
   design.F = problem.F;
@@ -52,6 +86,16 @@ AdjointDesignProblem theta2_design_problem(const Theta2Problem& problem) {
   };
   design.reference_variables = Eigen::VectorXd::Zero(problem.plate.rows());
   design.start = problem.start;
+  if (options.path_error_rad > 0) {
+    for (int sample = 0; sample < options.path_error_samples; ++sample) {
+      auto errors = std::make_shared<const Eigen::MatrixXd>(
+          path_angle_errors(problem.F, static_cast<int>(problem.plate.rows()), problem.num_layers,
+                            options.path_error_rad, 0, sample));
+      design.perturbations.push_back([errors](LayerStack& stack) {
+        for (int k = 0; k < stack.num_layers(); ++k) stack.layers[k].theta += errors->col(k);
+      });
+    }
+  }
   return design;
 }
 
@@ -71,6 +115,7 @@ AdjointDesignOptions theta2_design_options(const OptimizeTheta2Options& options)
   design.max_step = options.max_step_rad;
   design.min_step = options.min_step_rad;
   design.max_trial_forward_iterations = options.max_trial_forward_iterations;
+  design.max_forward_iterations = options.max_forward_iterations;
   design.forward = options.forward;
   return design;
 }
@@ -155,14 +200,33 @@ PlateProblem theta2_plate_problem(const Theta2Problem& problem, const Eigen::Vec
   return plate;
 }
 
+std::vector<Eigen::MatrixXd> theta2_equilibria_under_path_errors(const Theta2Problem& problem,
+                                                                 const Eigen::VectorXd& theta2,
+                                                                 const PathErrorModel& model,
+                                                                 const SimulationOptions& forward) {
+  const LayerStack nominal = theta2_layer_stack(problem, theta2);
+  std::vector<Eigen::MatrixXd> equilibria;
+  for (int sample = model.first_sample; sample < model.first_sample + model.samples; ++sample) {
+    LayerStack stack = nominal;
+    const Eigen::MatrixXd errors =
+        path_angle_errors(problem.F, static_cast<int>(problem.plate.rows()), stack.num_layers(),
+                          model.rms_rad, model.smoothing_passes, sample);
+    for (int k = 0; k < stack.num_layers(); ++k) stack.layers[k].theta += errors.col(k);
+    const PlateProblem plate{problem.plate, problem.F, laminate(stack)};
+    equilibria.push_back(simulate(plate, problem.target, forward).V);
+  }
+  return equilibria;
+}
+
 Theta2Evaluation evaluate_theta2_objective(const Theta2Problem& problem,
                                            const Eigen::VectorXd& theta2,
                                            const Eigen::MatrixXd& start,
                                            const OptimizeTheta2Options& options,
                                            bool with_gradient) {
   check_theta2_problem(problem, options);
-  const AdjointEvaluation evaluation = evaluate_adjoint_design(
-      theta2_design_problem(problem), theta2, start, theta2_design_options(options), with_gradient);
+  const AdjointEvaluation evaluation =
+      evaluate_adjoint_design(theta2_design_problem(problem, options), theta2, start,
+                              theta2_design_options(options), with_gradient);
   Theta2Evaluation out;
   out.objective = evaluation.objective;
   out.gradient = evaluation.gradient;
@@ -186,7 +250,7 @@ Theta2Result optimize_theta2(const Theta2Problem& problem, const Eigen::VectorXd
     throw UserError(ErrorCategory::kOption,
                     fmt::format("theta2 bound {} rad: give a positive bound", bound));
   }
-  AdjointDesignProblem design = theta2_design_problem(problem);
+  AdjointDesignProblem design = theta2_design_problem(problem, options);
   // A vertex within a relative 1e-12 of ±bound is held there.
   design.bounds = {-bound, bound, -(bound * (1 - 1e-12)), bound * (1 - 1e-12)};
   AdjointDesignOptions design_options = theta2_design_options(options);

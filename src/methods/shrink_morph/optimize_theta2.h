@@ -19,6 +19,8 @@
 
 #include <Eigen/Core>
 #include <functional>
+#include <limits>
+#include <numbers>
 #include <optional>
 #include <string>
 #include <vector>
@@ -86,10 +88,22 @@ struct OptimizeTheta2Options {
   // before) the optimizer accepted states that were not equilibria, and on strongly curved caps
   // the equilibrium of the θ2 it returned was farther from the target than θ2 = 0 (docs/design.md).
   int max_trial_forward_iterations = 4;
+  // Newton iterations all the line searches' forward solves may take together (a work budget
+  // that does not depend on the machine's speed).
+  int max_forward_iterations = std::numeric_limits<int>::max();
   // θ2 stays within ±max_abs_theta2 (rad); empty: kShrinkMorphTheta2Bound (π/2), past
   // which the layer directions alias (plate/layer_stack.h). Steps are
   // projected onto the bound, and a vertex held at it is left out of the Gauss–Newton system.
   std::optional<double> max_abs_theta2;
+  // The paths traced for a layer depart from its direction field by small angles that change from
+  // face to face (stripe patterns trade alignment for even spacing: 1.3-2.9° rms per face and
+  // layer on the paper's hat and top, read back from their plate.gcode). A design at a fold of
+  // its equilibria turns into another shape under such errors, so E's distance term is the mean
+  // over the nominal stack and path_error_samples stacks whose layer directions carry seeded
+  // Gaussian errors of path_error_rad rms (rad, independent per face and layer; the same on
+  // every run). 0 samples: the nominal stack alone (docs/design.md).
+  double path_error_rad = 2.3 * std::numbers::pi / 180;
+  int path_error_samples = 2;
   SimulationOptions forward;  // the equilibrium solves
   // Called after every iteration, and with the record that stopped it (no line-search trial) when
   // the optimization converges (progress lines); may be empty.
@@ -135,6 +149,23 @@ PlateProblem theta2_plate_problem(const Theta2Problem& problem, const Eigen::Vec
 // from the target. Throws UserError on inconsistent sizes or a bad plate.
 Theta2Result optimize_theta2(const Theta2Problem& problem, const Eigen::VectorXd& theta2_start,
                              const OptimizeTheta2Options& options = {});
+
+// Samples of the paths' errors: Gaussian angle errors per face and layer (seeded: sample i is the
+// same on every run), correlated over neighbouring faces by `smoothing_passes` passes of
+// face -> corner -> face averaging, rms_rad rms (rad). The optimization uses samples 0 to
+// path_error_samples - 1 without smoothing.
+struct PathErrorModel {
+  double rms_rad = 0;
+  int smoothing_passes = 0;
+  int first_sample = 0;
+  int samples = 0;
+};
+
+// The equilibria (#V x 3, mm, each solved from the target) of theta2's stack printed with each
+// sample of the model's errors.
+std::vector<Eigen::MatrixXd> theta2_equilibria_under_path_errors(
+    const Theta2Problem& problem, const Eigen::VectorXd& theta2, const PathErrorModel& model,
+    const SimulationOptions& forward = {});
 
 // E at theta2 (per vertex, rad), the equilibrium solved from `start` (#V x 3, mm; e.g. the
 // target), and with `with_gradient` its adjoint gradient (Eq. 14; one more factorization of H and

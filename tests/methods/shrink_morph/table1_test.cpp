@@ -3,8 +3,9 @@
 // automatically) ends within 1.5 times the paper's "Dist. to optim." (average and maximum, % of the
 // bounding-box diagonal) and closer than theta2 = 0. Designed from every initial stretch
 // (`--stretch all`), the beetle and the top meet the paper's own figures and the face 1.5 times
-// them. The benchmark (BM_Table1) holds the real bar and the times. Slow: a whole design per model
-// (2-12 s in Release, 20-30 s from every stretch).
+// them. The top, designed again under the paths' errors, prints from its own plate.gcode within
+// twice the paper's maximum. The benchmark (BM_Table1) holds the real bar and the times. Slow: a
+// whole design per model (2-12 s in Release, the top about 40 s, 20-30 s from every stretch).
 //
 // Not here because they do not meet it (issue 21, item 3, docs/design.md): the hat ends at
 // 0.56 / 3.27 % (0.45 / 2.71 % from every stretch) against 1.5 x 0.30 / 1.18 %, the face's
@@ -15,9 +16,12 @@
 #include <ostream>
 #include <string>
 
+#include "gcode/printer_profile.h"
 #include "mesh/io.h"
 #include "methods/shrink_morph/design.h"
 #include "methods/shrink_morph/paper_table1.h"
+#include "run/gcode_prediction.h"
+#include "run/print_plan.h"
 #include "test_support.h"
 
 namespace flatmorph::table1_test {
@@ -40,13 +44,32 @@ TEST_P(Table1, EndsWithinTheBarOfThePaper) {
   const std::filesystem::path path =
       testing::shared_dir() / "meshes" / (std::string(model.name) + ".obj");
   DesignOptions options = testing::paper_design_options(model);
-  if (GetParam().every_stretch) options.stretch_candidate = kEveryStretch;
+  if (GetParam().every_stretch) {
+    options.stretch_candidate = kEveryStretch;
+    // The exploration of the stretches is what these cases hold; designing each again under the
+    // paths' errors would quadruple their time.
+    options.optimize.path_error_samples = 0;
+  }
   const Design d = design_shrink_morph(read_mesh(path).mesh, path.string(), options);
   const DesignMetrics& m = d.metrics;
   EXPECT_LE(m.dist_to_optim_avg_pct, GetParam().factor * model.paper_optim_avg);
   EXPECT_LE(m.dist_to_optim_max_pct, GetParam().factor * model.paper_optim_max);
   EXPECT_LT(m.dist_to_optim_avg_pct, m.dist_to_sim_avg_pct);
   EXPECT_LT(m.dist_to_optim_max_pct, m.dist_to_sim_max_pct);
+  if (GetParam().every_stretch || std::string(model.name) != "top") return;
+  // The top rests at a fold of its equilibria: designed for the nominal stack alone, the shape
+  // its own plate.gcode prints lands 2.9 % / 26 % from the target. Designed again under the
+  // paths' errors, the G-code lands within 1.5 % / 5.9 % (the maximum the issue's bar allows:
+  // twice the paper's 2.95 %; its average bar, 0.48 %, is not met: docs/design.md).
+  EXPECT_TRUE(m.path_error_redesigned);
+  const PlateDesign plate =
+      shrink_morph_plate_design(d.flat, d.theta2, options.material, options.layers);
+  const PrintPlan plan = plan_print(plate, load_printer("creality-cr10s-pro"), PrintFilesOptions{});
+  const ClosedLoop loop =
+      close_the_loop(plan.gcode.text, "plate.gcode", plate.plate, plate.F, {options.material},
+                     d.flat.target.V, d.flat.target.V, d.optimized);
+  EXPECT_LE(loop.to_target.mean_percent, 1.5);
+  EXPECT_LE(loop.to_target.max_percent, 2 * model.paper_optim_max);
 }
 
 INSTANTIATE_TEST_SUITE_P(
