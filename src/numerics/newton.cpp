@@ -77,6 +77,12 @@ std::string_view to_string(NewtonStatus status) {
       return "Hessian factorization failed";
     case NewtonStatus::kDiverged:
       return "energy or state exploded";
+    case NewtonStatus::kTimeLimit:
+      return "time budget reached";
+    case NewtonStatus::kStalled:
+      return "stalled";
+    case NewtonStatus::kStopped:
+      return "stopped by the caller";
   }
   return "unknown";
 }
@@ -119,6 +125,20 @@ std::string advice(const NewtonResult& r, const NewtonOptions& options) {
           "the energy kept falling without bound (the state exploded) after {} "
           "iterations; the last state before that is used; {}",
           r.iterations, change);
+    case NewtonStatus::kTimeLimit:
+      return fmt::format(
+          "Newton reached its time budget of {:.3g} s after {} iterations (last predicted "
+          "decrease {:.3g}, tolerance {:.3g}); the best state found is used; allow more time, or "
+          "{}",
+          options.max_seconds, r.iterations, r.history.empty() ? 0.0 : r.history.back().decrement,
+          options.tolerance, change);
+    case NewtonStatus::kStalled:
+      return fmt::format(
+          "Newton stalled: its last {} of {} iterations lowered the energy by less than the "
+          "tolerance {:.3g} each on average; the best state found is used; {}",
+          options.stall_iterations, r.iterations, options.tolerance, change);
+    case NewtonStatus::kStopped:
+      return fmt::format("stopped by the caller after {} iterations", r.iterations);
   }
   return "";
 }
@@ -191,6 +211,7 @@ NewtonResult minimize(const NewtonProblem& problem, const Eigen::VectorXd& x0,
     return r;
   };
 
+  const auto call_start = Clock::now();
   Eigen::VectorXd gradient(n);
   Eigen::SparseMatrix<double> hessian(n, n);
   auto start = Clock::now();
@@ -231,6 +252,10 @@ NewtonResult minimize(const NewtonProblem& problem, const Eigen::VectorXd& x0,
 
   result.status = NewtonStatus::kIterationLimit;
   for (int iteration = 0; iteration < options.max_iterations; ++iteration) {
+    if (seconds_since(call_start) > options.max_seconds) {
+      result.status = NewtonStatus::kTimeLimit;
+      break;
+    }
     NewtonIteration record;
     record.energy = result.energy;
     bool ok = factorize_hessian(hessian, 0.0);
@@ -358,6 +383,18 @@ NewtonResult minimize(const NewtonProblem& problem, const Eigen::VectorXd& x0,
     result.energy = energy;
     g = restrict(trial_gradient);
     result.gradient_norm = g.norm();
+    if (problem.stop_at && problem.stop_at(result.x)) {
+      result.status = NewtonStatus::kStopped;
+      break;
+    }
+    // Every iteration so far left one record, the energy at its start.
+    const size_t done = result.history.size();
+    const size_t window = static_cast<size_t>(std::max(options.stall_iterations, 1));
+    if (done >= window && result.history[done - window].energy - result.energy <
+                              static_cast<double>(window) * options.tolerance) {
+      result.status = NewtonStatus::kStalled;
+      break;
+    }
   }
   return result;
 }

@@ -34,10 +34,22 @@ struct NewtonProblem {
   // Optional: line-search trial points for which this returns false are rejected as if their
   // energy were infinite (the flattening rejects steps that flip a triangle).
   std::function<bool(const Eigen::VectorXd& x)> is_feasible;
+  // Optional: called with every state Newton moves to; when it returns true, Newton stops there
+  // (kStopped) and returns that state (the plate simulator abandons a solve whose states keep a
+  // face collapsed, and applies the stimulus in steps instead).
+  std::function<bool(const Eigen::VectorXd& x)> stop_at;
 };
 
 struct NewtonOptions {
   int max_iterations = 1000;
+  // Wall-clock seconds one call may take, a last resort against a solve that crawls: a run that
+  // reaches it depends on the machine's speed (its result is not reproducible), so normal runs
+  // must stay far below it. Checked once per iteration.
+  double max_seconds = 300;
+  // Stop (kStalled) when this many iterations in a row lowered the energy by less than
+  // `tolerance` each on average: Newton is crawling (along a fold of the state, or off a saddle
+  // with the projected Hessian) and more iterations would only spend the budgets.
+  int stall_iterations = 50;
   // Stop when the Newton decrement -g.d/2 (the predicted energy decrease, in the objective's
   // units) of an exact-Hessian step is below this.
   double tolerance = 1e-6;
@@ -56,7 +68,10 @@ enum class NewtonStatus {
   kLineSearchFailed,     // no step along the Newton direction decreased the energy enough
   kNonFinite,            // the energy, the gradient or the step became NaN or infinite
   kFactorizationFailed,  // even the projected (and shifted) Hessian could not be factorized
-  kDiverged              // the energy or the state exploded (see NewtonOptions::divergence_factor)
+  kDiverged,             // the energy or the state exploded (see NewtonOptions::divergence_factor)
+  kTimeLimit,            // max_seconds reached
+  kStalled,              // stall_iterations iterations lowered the energy by < tolerance each
+  kStopped               // NewtonProblem::stop_at asked to stop
 };
 
 std::string_view to_string(NewtonStatus status);
@@ -85,7 +100,7 @@ struct NewtonResult {
 
   // Empty when converged; otherwise one sentence for the user: why Newton stopped, that the best
   // state found is returned, and what to change (finer mesh, smaller plate, other shrink ratios,
-  // more iterations). Callers print it as a warning, prefixed with what was being solved.
+  // more iterations or time). Callers print it as a warning, prefixed with what was being solved.
   std::string warning;
 
   bool converged() const { return status == NewtonStatus::kConverged; }

@@ -104,5 +104,46 @@ TEST(NewtonSafety, TheIterationLimitSaysSoAndReturnsTheBestState) {
   EXPECT_NE(r.warning.find("did not converge in 3 iterations"), std::string::npos) << r.warning;
 }
 
+TEST(NewtonSafety, TheTimeBudgetSaysSoAndReturnsTheBestState) {
+  const NewtonProblem p =
+      scalar_problem([](double x) { return (x - 2) * (x - 2); },
+                     [](double x) { return 2 * (x - 2); }, [](double) { return 2.0; });
+  NewtonOptions options;
+  options.max_seconds = 0;  // spent before the first iteration
+  const NewtonResult r = newton_minimize(p, Eigen::VectorXd::Constant(1, 7.0), options);
+  EXPECT_EQ(r.status, NewtonStatus::kTimeLimit) << to_string(r.status);
+  EXPECT_EQ(r.iterations, 0);
+  EXPECT_EQ(r.x(0), 7.0);
+  EXPECT_NE(r.warning.find("time budget of 0 s"), std::string::npos) << r.warning;
+}
+
+// (x)^2 kept to x > 1: every Newton direction points past the feasible set, so each line search
+// halves the step until it lands inside, and x creeps toward 1 while the gradient stays 2.
+TEST(NewtonSafety, ACrawlAgainstTheFeasibleSetStopsAsStalled) {
+  NewtonProblem p = scalar_problem([](double x) { return x * x; }, [](double x) { return 2 * x; },
+                                   [](double) { return 2.0; });
+  p.is_feasible = [](const Eigen::VectorXd& x) { return x(0) > 1; };
+  NewtonOptions options;
+  options.tolerance = 1e-3;
+  options.stall_iterations = 5;
+  const NewtonResult r = newton_minimize(p, Eigen::VectorXd::Constant(1, 2.0), options);
+  EXPECT_EQ(r.status, NewtonStatus::kStalled) << to_string(r.status);
+  EXPECT_LT(r.iterations, 30);
+  EXPECT_GT(r.x(0), 1.0);
+  EXPECT_LT(r.x(0), 1.001);
+  EXPECT_NE(r.warning.find("stalled: its last 5 of"), std::string::npos) << r.warning;
+}
+
+TEST(NewtonSafety, StopAtEndsAtTheFirstStateItNames) {
+  NewtonProblem p =
+      scalar_problem([](double x) { return (x - 3) * (x - 3); },
+                     [](double x) { return 2 * (x - 3); }, [](double) { return 2.0; });
+  p.stop_at = [](const Eigen::VectorXd& x) { return x(0) > 1; };
+  const NewtonResult r = newton_minimize(p, Eigen::VectorXd::Zero(1));
+  EXPECT_EQ(r.status, NewtonStatus::kStopped) << to_string(r.status);
+  EXPECT_EQ(r.iterations, 1);
+  EXPECT_DOUBLE_EQ(r.x(0), 3.0);  // the state it moved to, not the start
+}
+
 }  // namespace
 }  // namespace flatmorph::newton_safety_test
