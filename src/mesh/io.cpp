@@ -208,6 +208,11 @@ void check_mesh_for_writing(const Mesh& mesh, const char* writer) {
     throw std::invalid_argument(
         fmt::format("{}: F refers to vertices outside 0..{}", writer, mesh.V.rows() - 1));
   }
+  // A shape with NaN or infinite coordinates is a failed computation, never an output.
+  if (!mesh.V.allFinite()) {
+    throw std::invalid_argument(fmt::format(
+        "{}: V holds NaN or infinite coordinates; such a shape is not written", writer));
+  }
 }
 
 void append_double(std::string& out, double value) {

@@ -27,7 +27,8 @@ class MeshReadError : public UserError {
   int faces_read;
 };
 
-// Reads OBJ, PLY, STL or OFF, chosen by extension (case-insensitive) and checked against the content.
+// Reads OBJ, PLY, STL or OFF, chosen by extension (case-insensitive) and checked against the
+// content.
 // - OBJ: `v` and `f` lines; faces in v, v/vt, v//vn, v/vt/vn forms, negative (relative) indices,
 //   polygons fan-triangulated; other statements ignored.
 // - PLY: ascii, binary_little_endian, binary_big_endian; every scalar type; extra element and
@@ -44,14 +45,17 @@ MeshFile read_mesh(const std::filesystem::path& path);
 
 enum class PlyEncoding { kAscii, kBinaryLittleEndian, kBinaryBigEndian };
 
+// Both writers refuse (std::invalid_argument) a mesh whose coordinates are not all finite: a NaN
+// shape is a failed computation, never an output.
+
 // Writes Wavefront OBJ (vertices and triangles; properties are not stored in OBJ).
 // Numbers are written with enough digits to read back the same doubles.
 void write_obj(const std::filesystem::path& path, const Mesh& mesh);
 
 // Writes PLY with x, y, z as double and the named per-vertex / per-face properties as double
 // properties (readable by MeshLab and Blender). The file is written to a temporary name and renamed
-// when complete. Throws UserError(kFile) when it cannot be written, and std::invalid_argument when a
-// property's size does not match the mesh.
+// when complete. Throws UserError(kFile) when it cannot be written, and std::invalid_argument when
+// a property's size does not match the mesh.
 void write_ply(const std::filesystem::path& path, const Mesh& mesh,
                const MeshProperties& properties = {},
                PlyEncoding encoding = PlyEncoding::kBinaryLittleEndian);

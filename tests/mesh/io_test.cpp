@@ -637,6 +637,18 @@ TEST(MeshIoErrors, MissingFileAndFolder) {
   EXPECT_TRUE(contains(e.what(), "folder.ply: is a folder")) << e.what();
 }
 
+TEST(MeshIoErrors, WritersRefuseAShapeThatIsNotFinite) {
+  const auto dir = testing::scratch_dir();
+  for (const double bad : {std::nan(""), std::numeric_limits<double>::infinity()}) {
+    Mesh mesh = two_triangles();
+    mesh.V(2, 1) = bad;
+    EXPECT_THROW(write_mesh(dir / "a.ply", mesh), std::invalid_argument);
+    EXPECT_THROW(write_mesh(dir / "a.obj", mesh), std::invalid_argument);
+    EXPECT_THROW(ply_bytes(mesh), std::invalid_argument);
+  }
+  EXPECT_TRUE(fs::is_empty(dir));
+}
+
 TEST(MeshIoErrors, WriteMeshChoosesTheWriterByExtension) {
   const auto dir = testing::scratch_dir();
   write_mesh(dir / "a.OBJ", two_triangles(), two_triangle_properties());
