@@ -137,6 +137,7 @@ class AdjointDesignSolver {
     NewtonOptions newton_options;
     newton_options.max_iterations =
         trial ? options_.max_trial_forward_iterations : options_.forward.max_iterations;
+    newton_options.max_seconds = options_.forward.max_seconds;
     newton_options.tolerance = newton_tolerance_;
     const auto t0 = Clock::now();
     NewtonResult r = newton_minimize(newton, start, newton_options, &workspace_);

@@ -446,6 +446,37 @@ Eigen::Vector2d plate_energy_terms(const PlateEnergy& energy, const Eigen::Vecto
   return terms;
 }
 
+std::vector<Vector6d> plate_forms(const PlateEnergy& energy, const Eigen::VectorXd& x) {
+  std::vector<Vector6d> forms(energy.faces.size());
+  for (size_t f = 0; f < forms.size(); ++f) {
+    forms[f] = energy.faces[f].strain_map * face_scalars(energy, static_cast<int>(f), x, nullptr);
+  }
+  return forms;
+}
+
+double smallest_metric_ratio(const PlateEnergy& energy, const Eigen::VectorXd& x) {
+  double smallest = std::numeric_limits<double>::infinity();
+  for (int f = 0; f < static_cast<int>(energy.faces.size()); ++f) {
+    const PlateEnergy::FaceConstants& c = energy.faces[f];
+    const auto& ev = energy.element_vertices.row(f);
+    const Eigen::Vector3d u = position(x, ev(1)) - position(x, ev(0));
+    const Eigen::Vector3d v = position(x, ev(2)) - position(x, ev(0));
+    // The membrane block of T maps the current edges' Gram entries to a, stored (a00, a11, a01).
+    const Eigen::Vector3d a =
+        c.strain_map.topLeftCorner<3, 3>() * Eigen::Vector3d(u.dot(u), v.dot(v), u.dot(v));
+    Eigen::Matrix2d metric, rest;
+    metric << a(0), a(2), a(2), a(1);
+    rest << c.rest(0), c.rest(2), c.rest(2), c.rest(1);
+    // μ are the eigenvalues of L⁻¹ a L⁻ᵀ, ā = L Lᵀ; the smaller one of a symmetric 2 x 2 matrix in
+    // the form that does not cancel when the two are equal.
+    const Eigen::Matrix2d inverse = rest.llt().matrixL().solve(Eigen::Matrix2d::Identity());
+    const Eigen::Matrix2d m = inverse * metric * inverse.transpose();
+    smallest = std::min(smallest,
+                        0.5 * (m(0, 0) + m(1, 1)) - std::hypot(0.5 * (m(0, 0) - m(1, 1)), m(0, 1)));
+  }
+  return smallest;
+}
+
 void set_rest_forms(PlateEnergy& energy, const RestForms& rest_forms) {
   if (rest_forms.num_faces() != static_cast<int>(energy.faces.size()) ||
       rest_forms.stiffness.size() != energy.faces.size() ||

@@ -75,6 +75,17 @@ double evaluate_plate_energy(const PlateEnergy& energy, const Eigen::VectorXd& x
 double unit_strain_energy(const Eigen::MatrixXd& plate, const Eigen::MatrixXi& F,
                           const RestForms& rest_forms);
 
+// The forms of every face at the positions x (mm), as the energy sees them: s = (a00, a11, a01,
+// b00, b11, b01) with a the pulled-back metric (dimensionless) and b the pulled-back second
+// fundamental form (1/mm). At these rest forms the shape x has zero energy (the simulator's
+// staged stimulus starts from a start shape's own forms).
+std::vector<Vector6d> plate_forms(const PlateEnergy& energy, const Eigen::VectorXd& x);
+
+// How far the most compressed face is squeezed at x (mm), relative to its rest metric ā: the
+// smallest, over faces and directions v of the plate, of the squared stretch (vᵀ a v)/(vᵀ ā v)
+// (1 at rest, 0 for a face collapsed onto a line).
+double smallest_metric_ratio(const PlateEnergy& energy, const Eigen::VectorXd& x);
+
 // The energy split into membrane and bending terms (the membrane-bending coupling split evenly),
 // for reports and tests.
 Eigen::Vector2d plate_energy_terms(const PlateEnergy& energy, const Eigen::VectorXd& x);

@@ -257,6 +257,44 @@ TEST(PlateEnergy, MembraneNormMatchesEquationThreeForAUniformStretch) {
               1.0 * 0.8 / 4 * 1 / (1 - 0.16) * std::pow(s * s - 1, 2), 1e-12);
 }
 
+// A shape's own forms are rest forms at which it has zero energy and no force (the simulator's
+// stimulus in steps starts there), and the most squeezed direction is read relative to ā.
+TEST(PlateEnergy, AShapesOwnFormsAreItsRestAndTheSqueezeIsRelativeToThem) {
+  RandomCase c = random_case(11, 4, 3);
+  PlateEnergy energy = make_plate_energy(c.plate.V, c.plate.F, c.rest, c.stiffness);
+  RestForms own = single_material_rest_forms(c.rest.rest_first_fundamental_form,
+                                             c.rest.rest_second_fundamental_form, c.rest.thickness,
+                                             c.rest.material_angle, c.stiffness);
+  const std::vector<Vector6d> forms = plate_forms(energy, c.x);
+  for (size_t f = 0; f < forms.size(); ++f) {
+    own.rest_first_fundamental_form[f] << forms[f](0), forms[f](2), forms[f](2), forms[f](1);
+    own.rest_second_fundamental_form[f] << forms[f](3), forms[f](5), forms[f](5), forms[f](4);
+  }
+  set_rest_forms(energy, own);
+  Eigen::VectorXd g;
+  EXPECT_LT(evaluate_plate_energy(energy, c.x, &g, nullptr, false), 1e-20);
+  EXPECT_LT(g.norm(), 1e-9);
+  EXPECT_NEAR(smallest_metric_ratio(energy, c.x), 1.0, 1e-12);
+  // The flat plate squeezed to half its length along x and stretched by 2 along y, against ā = I:
+  // the squared stretches are 1/4 and 4.
+  const TestPlate plate = rectangle_plate(10, 6, 5, 3);
+  OrthotropicRest rest;
+  const int nf = static_cast<int>(plate.F.rows());
+  rest.rest_first_fundamental_form.assign(nf, Eigen::Matrix2d::Identity());
+  rest.rest_second_fundamental_form.assign(nf, Eigen::Matrix2d::Zero());
+  rest.thickness = Eigen::VectorXd::Constant(nf, 1.2);
+  rest.material_angle = Eigen::VectorXd::Constant(nf, 0.4);
+  Eigen::MatrixXd X = embed(plate.V);
+  X.col(0) *= 0.5;
+  X.col(1) *= 2;
+  const PlateEnergy flat = make_plate_energy(plate.V, plate.F, rest, {});
+  EXPECT_NEAR(smallest_metric_ratio(flat, flatten_positions(X)), 0.25, 1e-12);
+  // ā = diag(1/4, 1): the same shape is at rest along x.
+  rest.rest_first_fundamental_form.assign(nf, Eigen::Vector2d(0.25, 1).asDiagonal());
+  const PlateEnergy shrunk = make_plate_energy(plate.V, plate.F, rest, {});
+  EXPECT_NEAR(smallest_metric_ratio(shrunk, flatten_positions(X)), 1.0, 1e-12);
+}
+
 TEST(PlateEnergy, ProjectedHessianIsPositiveSemiDefinite) {
   const RandomCase c = random_case(4, 3, 2);
   const PlateEnergy energy = make_plate_energy(c.plate.V, c.plate.F, c.rest, c.stiffness);

@@ -330,6 +330,66 @@ TEST(Simulate, TangentialPathsMakeADomeRadialPathsDoNot) {
   EXPECT_GT(eig.eigenvalues().minCoeff(), 0.0);
 }
 
+// A disk of the paper's PLA (10 layers) printed along its radii, on a mesh of 1 mm edges: the
+// paths shrink (λ1) and the circles across them grow (λ2), so the rest metric is a cone of angle
+// 2π λ2/λ1 at the centre, 2π (λ2/λ1 − 1) more than the plane has. The plate takes that excess by
+// buckling into a wavy saddle: its total Gaussian curvature, the angle defects of the interior
+// vertices, is the cone's 2π (1 − λ2/λ1) = −5.42 (a dome would be positive, a flat plate 0).
+// Solved at once from flat, the first in-plane steps squeeze the circles past the point where the
+// membrane energy softens, the faces collapse and the plate creases (the 80 mm disk crawled for
+// 1000 iterations): the stimulus goes on in steps.
+void expect_radial_disk_saddle(double diameter) {
+  const double radius = diameter / 2;
+  const TestPlate plate = disk_plate(radius, static_cast<int>(radius));
+  const Eigen::MatrixXd c = face_centroids(plate);
+  const int nf = static_cast<int>(plate.F.rows());
+  Eigen::VectorXd radial(nf);
+  for (int f = 0; f < nf; ++f) radial(f) = std::atan2(c(f, 1), c(f, 0));
+  const Material m;
+  const PlateProblem p = shrink_morph_problem(plate, radial, Eigen::VectorXd::Zero(nf), m);
+  const SimulationResult r = simulate(p, flat_start(p));
+  ASSERT_TRUE(r.converged) << r.warning;
+  EXPECT_EQ(stop_reason(r), "converged");
+  EXPECT_GT(r.stimulus_steps, 1);
+  const double curvature = central_angle_defect(r.V, plate, radius - 0.5);  // interior vertices
+  const double cone = 2 * M_PI * (1 - m.lambda2 / m.lambda1);
+  ::testing::Test::RecordProperty("total_gaussian_curvature", std::to_string(curvature));
+  ::testing::Test::RecordProperty("newton_iterations", std::to_string(r.iterations));
+  EXPECT_NEAR(curvature, cone, 0.1 * std::abs(cone));
+}
+
+TEST(Simulate, RadialDiskOf20MmBucklesIntoNegativeCurvature) { expect_radial_disk_saddle(20); }
+TEST(Simulate, RadialDiskOf40MmBucklesIntoNegativeCurvature) { expect_radial_disk_saddle(40); }
+
+// The budgets: a solve stopped by either returns the best finite state it reached and says why.
+TEST(Simulate, ABudgetStopReturnsTheBestFiniteStateAndSaysWhy) {
+  const TestPlate plate = disk_plate(10, 10);
+  const Eigen::MatrixXd c = face_centroids(plate);
+  const int nf = static_cast<int>(plate.F.rows());
+  Eigen::VectorXd radial(nf);
+  for (int f = 0; f < nf; ++f) radial(f) = std::atan2(c(f, 1), c(f, 0));
+  const PlateProblem p = shrink_morph_problem(plate, radial, Eigen::VectorXd::Zero(nf), Material{});
+  SimulationOptions none;
+  none.max_iterations = 0;
+  const double start_energy = simulate(p, flat_start(p), none).energy;
+  SimulationOptions two;
+  two.max_iterations = 2;
+  const SimulationResult r = simulate(p, flat_start(p), two);
+  EXPECT_FALSE(r.converged);
+  EXPECT_EQ(r.status, NewtonStatus::kIterationLimit);
+  EXPECT_EQ(r.iterations, 2);
+  EXPECT_TRUE(r.V.allFinite());
+  EXPECT_LT(r.energy, 0.1 * start_energy);
+  EXPECT_NE(r.warning.find("did not converge in 2 iterations"), std::string::npos) << r.warning;
+  EXPECT_EQ(stop_reason(r), r.warning);
+  SimulationOptions no_time;
+  no_time.max_seconds = 0;
+  const SimulationResult t = simulate(p, flat_start(p), no_time);
+  EXPECT_EQ(t.status, NewtonStatus::kTimeLimit);
+  EXPECT_LT((t.V - flat_start(p)).cwiseAbs().maxCoeff(), 1e-9);  // the start: nothing better
+  EXPECT_NE(t.warning.find("time budget of 0 s"), std::string::npos) << t.warning;
+}
+
 // θ1 = 0 and a uniform θ2 > 0: the top layer runs at +θ2/2, the bottom one at −θ2/2. Along the
 // diagonal (1, 1) the top's rest metric is the smaller (it shrinks more), along (1, −1) the
 // bottom's: the top must be concave along (1, 1) and convex along (1, −1). Small plate, small θ2:
