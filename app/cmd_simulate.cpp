@@ -44,6 +44,8 @@ struct SimulateOptions {
   double min_cover = DepositedPlateOptions{}.min_coverage;
   std::string from = "flat";
   std::string target_path;
+  double max_seconds = SimulationOptions{}.max_seconds;
+  bool json = false;
   std::string output;
 };
 
@@ -95,9 +97,27 @@ Mesh read_target_surface(const std::string& path) {
 void print_result(const char* label, const SimulationResult& r) {
   fmt::print(
       "{}: energy {:.6g} mJ (membrane {:.4g}, bending {:.4g}), {} Newton iterations ({} "
-      "projected), {}, {:.2f} s\n",
+      "projected{}), {}, {:.2f} s\n",
       label, r.energy, r.membrane_energy, r.bending_energy, r.iterations, r.projected_iterations,
+      r.stimulus_steps > 1 ? fmt::format(", the stimulus in {} steps", r.stimulus_steps) : "",
       to_string(r.status), r.seconds);
+}
+
+// The warning a simulation that did not converge gets on stderr (its best state is still written).
+void warn_unless_converged(const SimulationResult& r) {
+  if (!r.converged) fmt::print(stderr, "flatmorph: warning: simulation: {}\n", stop_reason(r));
+}
+
+SimulationOptions simulation_options(const SimulateOptions& o) {
+  if (!(o.max_seconds > 0)) {
+    throw UserError(ErrorCategory::kOption,
+                    fmt::format("--max-seconds {}: give the wall-clock seconds the simulation may "
+                                "take, a positive number (default {})",
+                                o.max_seconds, SimulationOptions{}.max_seconds));
+  }
+  SimulationOptions options;
+  options.max_seconds = o.max_seconds;
+  return options;
 }
 
 bool is_gcode_path(const std::string& path) {
@@ -164,7 +184,8 @@ std::string read_text(const std::string& path) {
 
 // flatmorph simulate FILE.gcode: the shape the printed file makes, and a run folder beside the
 // predicted shape (OUT.ply -> OUT/) that `flatmorph report` shows.
-int run_simulate_gcode(const SimulateOptions& o, const GlobalOptions& global) {
+int run_simulate_gcode(const SimulateOptions& o, const SimulationOptions& simulation,
+                       const GlobalOptions& global) {
   if (o.plate_input.layers) {
     throw UserError(ErrorCategory::kOption,
                     fmt::format("{}: --layers does not apply to G-code: its layers are those it "
@@ -198,6 +219,7 @@ int run_simulate_gcode(const SimulateOptions& o, const GlobalOptions& global) {
   }
   options.deposit.resolution_mm = o.resolution_mm;
   options.deposit.min_coverage = o.min_cover;
+  options.simulation = simulation;
   Mesh plate_mesh;
   if (o.plate_mesh) {
     plate_mesh = read_mesh(*o.plate_mesh).mesh;
@@ -232,7 +254,8 @@ int run_simulate_gcode(const SimulateOptions& o, const GlobalOptions& global) {
   const std::vector<Material> materials = tool_materials(o, header, materials_from);
   const GcodePrediction p = predict_from_gcode(text, o.plate_path, materials, options);
   const PlateDesign& plate = p.plate.design;
-  if (!global.quiet) {
+  const bool silent = global.quiet || o.json;
+  if (!silent) {
     fmt::print(
         "read {}: {} beads in {:.2f} s; plate: {} ({} vertices, {} faces{}), {}; "
         "materials from {}\n",
@@ -252,11 +275,7 @@ int run_simulate_gcode(const SimulateOptions& o, const GlobalOptions& global) {
     }
     print_result("from flat", p.result);
   }
-  if (!p.result.converged) {
-    fmt::print(
-        stderr, "flatmorph: warning: simulation: {}\n",
-        p.result.warning.empty() ? std::string(to_string(p.result.status)) : p.result.warning);
-  }
+  warn_unless_converged(p.result);
   RunOutputs run;
   run.method = "gcode";
   run.plate = plate;
@@ -273,7 +292,7 @@ int run_simulate_gcode(const SimulateOptions& o, const GlobalOptions& global) {
     run.predicted_deviation_mm = d.per_vertex_mm;
     metrics["gcode_dist_avg_pct"] = d.mean_percent;
     metrics["gcode_dist_max_pct"] = d.max_percent;
-    if (!global.quiet) {
+    if (!silent) {
       fmt::print(
           "distance to target by shape (closest points on its surface after the best rigid fit, "
           "no vertex correspondence): average {:.3f} % / max {:.3f} % of the diagonal ({:.3f} / "
@@ -290,7 +309,7 @@ int run_simulate_gcode(const SimulateOptions& o, const GlobalOptions& global) {
     run.predicted_deviation_mm = d.per_vertex_mm;
     metrics["gcode_dist_avg_pct"] = d.mean_percent;
     metrics["gcode_dist_max_pct"] = d.max_percent;
-    if (!global.quiet) {
+    if (!silent) {
       fmt::print(
           "distance to target: average {:.3f} % / max {:.3f} % of the diagonal ({:.3f} / "
           "{:.3f} mm, diagonal {:.1f} mm)\n",
@@ -308,6 +327,7 @@ int run_simulate_gcode(const SimulateOptions& o, const GlobalOptions& global) {
   metrics["t_read_s"] = p.read_seconds;
   metrics["t_rasterize_s"] = p.rasterize_seconds;
   metrics["t_sim_s"] = p.result.seconds;
+  metrics["sim_stop_reason"] = stop_reason(p.result);
   nlohmann::ordered_json parameters;
   parameters["input"] = o.plate_path;
   parameters["plate"] = o.plate_mesh ? *o.plate_mesh : std::string("footprint");
@@ -328,7 +348,8 @@ int run_simulate_gcode(const SimulateOptions& o, const GlobalOptions& global) {
   run.metric_list = run_metric_list(metrics);
   write_ply(o.output, Mesh{predicted, plate.F}, properties);
   write_run_folder(run_dir, run, nullptr);
-  if (!global.quiet) fmt::print("wrote {} and {}/\n", o.output, run_dir.string());
+  if (o.json) fmt::print("{}\n", run_record(run).dump(2));
+  if (!silent) fmt::print("wrote {} and {}/\n", o.output, run_dir.string());
   return 0;
 }
 
@@ -338,7 +359,8 @@ int run_simulate(const SimulateOptions& o, const GlobalOptions& global) {
         ErrorCategory::kOption,
         fmt::format("-o {}: the predicted shape is written as PLY; name it *.ply", o.output));
   }
-  if (is_gcode_path(o.plate_path)) return run_simulate_gcode(o, global);
+  const SimulationOptions simulation = simulation_options(o);
+  if (is_gcode_path(o.plate_path)) return run_simulate_gcode(o, simulation, global);
   if (o.printer || o.plate_mesh) {
     throw UserError(ErrorCategory::kOption,
                     "--printer and --plate apply to a G-code file; a flat.ply is its own plate");
@@ -356,16 +378,27 @@ int run_simulate(const SimulateOptions& o, const GlobalOptions& global) {
   Eigen::MatrixXd start;
   if (o.from != "flat") start = read_shape(o.from, plate, "start shape");
 
-  if (!global.quiet) {
+  const bool silent = global.quiet || o.json;
+  if (!silent) {
     fmt::print("plate: {} ({} vertices, {} faces), {}\n", o.plate_path, plate.plate.rows(),
                plate.F.rows(), describe_stack(plate.stack));
   }
+  nlohmann::ordered_json record;
+  record["input"] = o.plate_path;
+  record["from"] = o.from;
+  if (!o.target_path.empty()) record["target"] = o.target_path;
+  record["max_seconds"] = o.max_seconds;
+  nlohmann::ordered_json metrics;
+  metrics["faces"] = plate.F.rows();
+  metrics["layers"] = plate.stack.num_layers();
   SimulationResult result;
+  std::optional<ForwardComparison> both;
   // With a 3D start, both starts are simulated so that several stable shapes can be reported.
   if (start.size() > 0) {
-    const ForwardComparison c = simulate_from_start_and_flat(problem, start);
+    both = simulate_from_start_and_flat(problem, start, simulation);
+    const ForwardComparison& c = *both;
     result = c.from_start;
-    if (!global.quiet) {
+    if (!silent) {
       print_result("from start", c.from_start);
       print_result("from flat ", c.from_flat);
     }
@@ -377,13 +410,15 @@ int run_simulate(const SimulateOptions& o, const GlobalOptions& global) {
                  c.max_difference_mm, c.max_difference_percent, o.from);
     }
   } else {
-    result = simulate(problem, flat_start(problem));
-    if (!global.quiet) print_result("from flat", result);
+    result = simulate(problem, flat_start(problem), simulation);
+    if (!silent) print_result("from flat", result);
   }
-  if (!result.converged) {
-    fmt::print(stderr, "flatmorph: warning: simulation: {}\n",
-               result.warning.empty() ? std::string(to_string(result.status)) : result.warning);
-  }
+  warn_unless_converged(result);
+  metrics["energy_mj"] = result.energy;
+  metrics["newton_iterations"] = result.iterations;
+  metrics["projected_iterations"] = result.projected_iterations;
+  metrics["stimulus_steps"] = result.stimulus_steps;
+  metrics["converged"] = result.converged;
 
   MeshProperties properties;
   // A shape simulated from flat has no reason to sit where the target does: align it rigidly
@@ -392,16 +427,26 @@ int run_simulate(const SimulateOptions& o, const GlobalOptions& global) {
   if (target.size() > 0) {
     const ShapeDistance d = shape_distance(result.V, target);
     properties.set_vertex("deviation_mm", d.per_vertex_mm);
-    if (!global.quiet) {
+    metrics["dist_avg_pct"] = d.mean_percent;
+    metrics["dist_max_pct"] = d.max_percent;
+    if (!silent) {
       fmt::print(
           "distance to target: average {:.3f} % / max {:.3f} % of the diagonal ({:.3f} / "
           "{:.3f} mm, diagonal {:.1f} mm)\n",
           d.mean_percent, d.max_percent, d.mean_mm, d.max_mm, d.diagonal_mm);
     }
   }
+  if (both) {
+    metrics["multistable"] = both->multistable;
+    metrics["flat_sim_stop_reason"] = stop_reason(both->from_flat);
+  }
+  metrics["t_sim_s"] = result.seconds;
+  metrics["sim_stop_reason"] = stop_reason(result);
+  record["metrics"] = metrics;
   write_ply(o.output, Mesh{result.V, plate.F}, properties);
   if (!stack_warning.empty()) fmt::print(stderr, "flatmorph: warning: {}\n", stack_warning);
-  if (!global.quiet) fmt::print("wrote {}\n", o.output);
+  if (o.json) fmt::print("{}\n", record.dump(2));
+  if (!silent) fmt::print("wrote {}\n", o.output);
   return 0;
 }
 
@@ -450,6 +495,15 @@ Command make_simulate_command(CLI::App& app, const GlobalOptions& global) {
                   "the target.ply with the plate's vertices, compared vertex by vertex; for a "
                   "G-code on its footprint: any triangle mesh, compared by shape (each vertex to "
                   "the nearest point of the target's surface after the best rigid fit)");
+  sub->add_option("--max-seconds", o->max_seconds,
+                  "Wall-clock seconds each simulation may take before it stops and writes the "
+                  "best state it reached, saying so (a last resort: no plate should need it; a "
+                  "run that reaches it is not reproducible byte for byte)")
+      ->capture_default_str();
+  sub->add_flag("--json", o->json,
+                "Print a JSON object on stdout at the end (the inputs, then \"metrics\": "
+                "iterations, energy, whether it converged and sim_stop_reason, why not) instead "
+                "of the human-readable lines; for a G-code file, the run folder's design.json");
   sub->add_option("-o,--output", o->output,
                   "Predicted shape (.ply), same vertex and face order; for a G-code file also a "
                   "run folder of the same name without .ply (flatmorph report shows it)")

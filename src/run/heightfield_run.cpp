@@ -225,6 +225,8 @@ nlohmann::ordered_json heightfield_metrics(const HeightFieldState& state,
     m["gcode_converged"] = loop.prediction.result.converged;
     m["t_gcode_sim_s"] = print.loop_seconds;
   }
+  m["sim_stop_reason"] = stop_reason(p.from_flat);
+  if (print.loop) m["gcode_sim_stop_reason"] = stop_reason(print.loop->prediction.result);
   return m;
 }
 

@@ -319,6 +319,20 @@ void add_judgement_metrics(const OrigamiDesign& design, const SheetJudgement& ju
   m["sim_converged"] = converged;
 }
 
+// "converged" when every sheet's simulation did (from its layers and from its G-code), else why
+// the first one that did not stopped.
+std::string sheets_stop_reason(const SheetJudgement& judged) {
+  for (size_t i = 0; i < judged.from_layers.size(); ++i) {
+    const SimulationResult& r = judged.from_layers[i].result;
+    if (!r.converged) return fmt::format("sheet {}: {}", i + 1, stop_reason(r));
+  }
+  for (size_t i = 0; i < judged.from_gcode.size(); ++i) {
+    const SimulationResult& r = judged.from_gcode[i].result;
+    if (!r.converged) return fmt::format("sheet {} from its G-code: {}", i + 1, stop_reason(r));
+  }
+  return "converged";
+}
+
 nlohmann::ordered_json origami_metrics(const OrigamiDesign& design, const SheetJudgement& judged,
                                        const PrintOutcome& print) {
   nlohmann::ordered_json m;
@@ -348,6 +362,7 @@ nlohmann::ordered_json origami_metrics(const OrigamiDesign& design, const SheetJ
     m["filament_g"] = totals.filament_g;
     m["tool_changes"] = totals.tool_changes;
   }
+  if (!judged.from_layers.empty()) m["sim_stop_reason"] = sheets_stop_reason(judged);
   return m;
 }
 

@@ -264,6 +264,8 @@ MethodReport report_run(const ShrinkMorphSetup& setup, const ShrinkMorphState& s
     m["gcode_converged"] = loop.prediction.result.converged;
     m["t_gcode_sim_s"] = print.loop_seconds;
   }
+  m["sim_stop_reason"] = design.simulated_stop_reason;
+  if (print.loop) m["gcode_sim_stop_reason"] = stop_reason(print.loop->prediction.result);
   report.warnings = design_warnings(design, print);
   report.layer_table = true;
   const DesignMetrics& d = design.metrics;

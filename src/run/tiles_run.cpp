@@ -152,6 +152,8 @@ nlohmann::ordered_json tiles_metrics(const TilesState& state, const PrintOutcome
     m["gcode_unprinted_faces"] = print.loop->prediction.plate.removed_faces;
     m["t_gcode_sim_s"] = print.loop_seconds;
   }
+  if (design.simulated) m["sim_stop_reason"] = stop_reason(design.simulation);
+  if (print.loop) m["gcode_sim_stop_reason"] = stop_reason(print.loop->prediction.result);
   return m;
 }
 

@@ -50,6 +50,8 @@ TEST(CliDesign, WritesThePlateTheShapesAndTheMetrics) {
   // The loop closed (issue 22): plate.gcode read back and simulated lands near the fields' shape.
   EXPECT_EQ(m.at("gcode_unprinted_faces").get<int>(), 0);
   EXPECT_TRUE(m.at("gcode_converged").get<bool>());
+  EXPECT_EQ(m.at("sim_stop_reason"), "converged");
+  EXPECT_EQ(m.at("gcode_sim_stop_reason"), "converged");
   EXPECT_LT(m.at("gcode_vs_fields_avg_pct").get<double>(), 1.0);
   EXPECT_LT(m.at("gcode_dist_avg_pct").get<double>(), m.at("dist_to_sim_avg_pct").get<double>());
 

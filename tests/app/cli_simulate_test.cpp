@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "mesh/io.h"
+#include "plate/plate_fixtures.h"
 #include "simulate/distance.h"
 #include "test_support.h"
 
@@ -61,6 +62,45 @@ TEST(CliSimulate, ForwardPredictionFromFlatRisesIntoADome) {
   // The flat plate must leave the plane: its height range is a sizeable part of its width.
   const Eigen::Vector3d extent = sim.mesh.V.colwise().maxCoeff() - sim.mesh.V.colwise().minCoeff();
   EXPECT_GT(extent.minCoeff(), 0.1 * extent.maxCoeff()) << extent.transpose();
+}
+
+// A 20 mm disk printed along its radii (theta1 per face, rings 1 mm apart; no stack file: 10
+// layers of pla-paper): it buckles into a saddle, and --json says how the solve ended.
+TEST(CliSimulate, TheJsonSaysWhyTheSimulationEnded) {
+  const fs::path dir = testing::scratch_dir();
+  const testing::TestPlate plate = testing::disk_plate(10, 10);
+  Eigen::VectorXd theta1(plate.F.rows());
+  for (Eigen::Index f = 0; f < plate.F.rows(); ++f) {
+    const Eigen::RowVector2d c =
+        (plate.V.row(plate.F(f, 0)) + plate.V.row(plate.F(f, 1)) + plate.V.row(plate.F(f, 2))) / 3;
+    theta1(f) = std::atan2(c.y(), c.x());
+  }
+  MeshProperties properties;
+  properties.set_face("theta1", theta1);
+  write_ply(dir / "disk.ply", Mesh{testing::embed(plate.V), plate.F}, properties);
+  auto r = run_cli(
+      {"simulate", (dir / "disk.ply").string(), "--json", "-o", (dir / "disk_sim.ply").string()});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  nlohmann::json j = nlohmann::json::parse(r.out);  // only the JSON on stdout
+  EXPECT_EQ(j.at("metrics").at("sim_stop_reason"), "converged");
+  EXPECT_TRUE(j.at("metrics").at("converged").get<bool>());
+  EXPECT_GT(j.at("metrics").at("stimulus_steps").get<int>(), 1);
+  EXPECT_EQ(r.err.find("warning: simulation"), std::string::npos) << r.err;
+  // A time budget too small for one iteration: the start is written, and the reason says so on
+  // stderr and in the JSON.
+  r = run_cli({"simulate", (dir / "disk.ply").string(), "--json", "--max-seconds", "1e-9", "-o",
+               (dir / "disk_budget.ply").string()});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  j = nlohmann::json::parse(r.out);
+  const std::string reason = j.at("metrics").at("sim_stop_reason");
+  EXPECT_NE(reason.find("time budget of 1e-09 s"), std::string::npos) << reason;
+  EXPECT_NE(r.err.find("warning: simulation: " + reason), std::string::npos) << r.err;
+  EXPECT_TRUE(read_mesh(dir / "disk_budget.ply").mesh.V.allFinite());
+  r = run_cli({"simulate", (dir / "disk.ply").string(), "--max-seconds", "0", "-o",
+               (dir / "zero.ply").string()});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--max-seconds"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "zero.ply"));
 }
 
 TEST(CliSimulate, BadInputsGiveOneLineErrorsAndNoOutput) {

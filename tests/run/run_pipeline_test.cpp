@@ -111,6 +111,19 @@ TEST_P(RunPipeline, DesignsPrintsAndClosesTheLoopAsData) {
     EXPECT_TRUE(run.metrics.contains("gcode_vs_fields_avg_pct"));
     EXPECT_NE(std::find(stages.begin(), stages.end(), "simulate"), stages.end());
   }
+  // Every simulation says why it ended: "converged", or one sentence saying why not and what to
+  // change (Shrink & Morph always simulates; the others say whether they did by sim_converged).
+  if (c.method == "shrink_morph" || run.metrics.contains("sim_converged")) {
+    ASSERT_TRUE(run.metrics.contains("sim_stop_reason"));
+  }
+  if (run.metrics.contains("sim_converged")) {
+    EXPECT_EQ(run.metrics["sim_stop_reason"] == "converged",
+              run.metrics["sim_converged"].get<bool>());
+  }
+  if (c.closes_loop) {
+    EXPECT_EQ(run.metrics["gcode_sim_stop_reason"] == "converged",
+              run.metrics["gcode_converged"].get<bool>());
+  }
   EXPECT_FALSE(result.summary.empty());
   // Nothing was written: no "wrote" line.
   for (const std::string& line : result.summary) EXPECT_NE(line.rfind("wrote ", 0), 0u) << line;

@@ -444,10 +444,11 @@ double optimize_design_level(SideDesign& chosen, const std::optional<SideDesign>
       // whole call 33.9 s -> 28-34 s on 2 cores), so it runs after.
       report_stage(options, "simulate", "theta2 = 0, from the target (Dist. to sim.)");
       const auto t = Clock::now();
-      out.simulated =
+      const SimulationResult simulated =
           simulate(theta2_plate_problem(chosen.problem, Eigen::VectorXd::Zero(carried.size())),
-                   chosen.problem.target, options.optimize.forward)
-              .V;
+                   chosen.problem.target, options.optimize.forward);
+      out.simulated = simulated.V;
+      out.simulated_stop_reason = stop_reason(simulated);
       return seconds_since(t);
     }
   }
@@ -621,6 +622,9 @@ Design design_shrink_morph(Mesh target, const std::string& source, const DesignO
   if (out.simulated.size() == 0) {
     // The optimization started from zeros: its first equilibrium is the theta2 = 0 simulation.
     out.simulated = chosen.optimization.initial_V;
+    out.simulated_stop_reason = chosen.optimization.initial_forward_converged
+                                    ? "converged"
+                                    : chosen.optimization.initial_forward_warning;
     m.t_sim_s = chosen.optimization.initial_seconds;
   } else {
     m.t_sim_s = t_report_sim;

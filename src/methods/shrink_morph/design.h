@@ -103,7 +103,8 @@ struct Design {
   FlatPlate flat;             // target (scaled, maybe flipped), plate, theta1
   Eigen::VectorXd theta2;     // per vertex, rad
   Eigen::MatrixXd simulated;  // #V x 3 mm: equilibrium with theta2 = 0, started from the target
-  Eigen::MatrixXd optimized;  // #V x 3 mm: equilibrium with the optimized theta2
+  std::string simulated_stop_reason;  // "converged", or why that simulation stopped (one sentence)
+  Eigen::MatrixXd optimized;          // #V x 3 mm: equilibrium with the optimized theta2
   ShapeDistance dist_to_sim, dist_to_optim;
   Theta2Result optimization;
   bool flipped = false;       // the target's normal side is on the bed

@@ -279,6 +279,7 @@ Theta2Result optimize_theta2(const Theta2Problem& problem, const Eigen::VectorXd
   out.cg_seconds = r.cg_seconds;
   out.forward_seconds = r.forward_seconds;
   out.initial_forward_converged = r.initial_forward_converged;
+  out.initial_forward_warning = r.initial_forward_warning;
   out.shifted_factorizations = r.shifted_factorizations;
   out.theta2_bound = bound;
   out.vertices_at_bound = r.vertices_at_bound;

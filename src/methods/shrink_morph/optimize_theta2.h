@@ -130,6 +130,7 @@ struct Theta2Result {
   // diagonal shift (H not positive definite: the equilibrium is not a stable minimum, and the
   // sensitivities are approximate).
   bool initial_forward_converged = false;
+  std::string initial_forward_warning;  // why it did not, in one sentence (empty when it did)
   int shifted_factorizations = 0;
   double theta2_bound = 0;    // the bound θ2 was kept within, rad
   int vertices_at_bound = 0;  // of the result
