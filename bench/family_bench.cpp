@@ -2,14 +2,20 @@
 // target with the default settings, the distances before (theta2 = 0) and after optimizing theta2
 // on the printed stack, the largest |theta2| and the time, and whether the row meets issue 21's
 // bar (the maximum no worse than with theta2 = 0; the average down 3x wherever theta2 = 0 is above
-// 0.5 %). The table of docs/design.md. Never tune settings on it (docs/design.md).
+// 0.5 %). The table of docs/design.md. Never tune settings on it (docs/design.md). Also the shape
+// the design's own plate.gcode prints (generic Marlin printer), read back and simulated: its
+// distance to the target and to the fields' prediction, and whether it stays within 1.5 times the
+// fields' distance + 0.2 points (not timed).
 #include <benchmark/benchmark.h>
 
 #include <chrono>
 
 #include "examples/validation_family.h"
+#include "gcode/printer_profile.h"
 #include "material/material.h"
 #include "methods/shrink_morph/design.h"
+#include "run/gcode_prediction.h"
+#include "run/print_plan.h"
 
 namespace flatmorph {
 namespace {
@@ -47,6 +53,20 @@ void BM_Family(benchmark::State& state) {
     state.counters["max_not_worse"] = m.dist_to_optim_max_pct <= m.dist_to_sim_max_pct;
     state.counters["avg_3x"] =
         m.dist_to_sim_avg_pct <= 0.5 || 3 * m.dist_to_optim_avg_pct <= m.dist_to_sim_avg_pct;
+    state.PauseTiming();
+    const PlateDesign plate =
+        shrink_morph_plate_design(d.flat, d.theta2, options.material, options.layers);
+    const PrintPlan plan = plan_print(plate, load_printer("generic-marlin"), PrintFilesOptions{});
+    const ClosedLoop loop =
+        close_the_loop(plan.gcode.text, "plate.gcode", plate.plate, plate.F, {options.material},
+                       d.flat.target.V, d.flat.target.V, d.optimized);
+    state.counters["gcode_avg_pct"] = loop.to_target.mean_percent;
+    state.counters["gcode_max_pct"] = loop.to_target.max_percent;
+    state.counters["vs_fields_avg_pct"] = loop.to_prediction.mean_percent;
+    state.counters["gcode_within_1.5x+0.2"] =
+        loop.to_target.mean_percent <= 1.5 * m.dist_to_optim_avg_pct + 0.2 &&
+        loop.to_target.max_percent <= 1.5 * m.dist_to_optim_max_pct + 0.2;
+    state.ResumeTiming();
   }
 }
 BENCHMARK(BM_Family)->DenseRange(0, 10)->Unit(benchmark::kSecond)->Iterations(1)->UseRealTime();
