@@ -20,8 +20,7 @@
 namespace flatmorph {
 namespace {
 
-void BM_Family(benchmark::State& state) {
-  const std::vector<ValidationTarget> family = validation_family();
+void design_and_print(benchmark::State& state, const std::vector<ValidationTarget>& family) {
   const auto index = static_cast<size_t>(state.range(0));
   if (index >= family.size()) {
     state.SkipWithError("no such member of the family");
@@ -69,7 +68,18 @@ void BM_Family(benchmark::State& state) {
     state.ResumeTiming();
   }
 }
+void BM_Family(benchmark::State& state) { design_and_print(state, validation_family()); }
 BENCHMARK(BM_Family)->DenseRange(0, 10)->Unit(benchmark::kSecond)->Iterations(1)->UseRealTime();
+
+// The family's kinds at other sizes, aspects and resolutions (validation_family_variants).
+void BM_FamilyVariant(benchmark::State& state) {
+  design_and_print(state, validation_family_variants());
+}
+BENCHMARK(BM_FamilyVariant)
+    ->DenseRange(0, 6)
+    ->Unit(benchmark::kSecond)
+    ->Iterations(1)
+    ->UseRealTime();
 
 }  // namespace
 }  // namespace flatmorph

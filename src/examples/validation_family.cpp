@@ -153,4 +153,36 @@ std::vector<ValidationTarget> validation_family() {
   return family;
 }
 
+std::vector<ValidationTarget> validation_family_variants() {
+  const auto monkey = [](double scale) {
+    return [=](double x, double y) { return (x * x * x - 3 * x * y * y) / scale; };
+  };
+  std::vector<ValidationTarget> variants;
+  variants.push_back(target("monkey-saddle-10k",
+                            "the family's monkey saddle, z = (x^3 - 3 x y^2) / 12500 on a 100 mm "
+                            "disk, at 10k faces",
+                            superellipse(50, 50, 2), monkey(12500), 10000));
+  variants.push_back(target("monkey-saddle-80",
+                            "z = (x^3 - 3 x y^2) / 8000 on an 80 mm disk, +-8 mm",
+                            superellipse(40, 40, 2), monkey(8000), 4000));
+  variants.push_back(target("monkey-saddle-shallow",
+                            "z = (x^3 - 3 x y^2) / 20000 on a 100 mm disk, +-6 mm",
+                            superellipse(50, 50, 2), monkey(20000), 5000));
+  variants.push_back(target("elliptic-cap-small",
+                            "paraboloid cap, radius of curvature 60 mm, on a 70 mm disk",
+                            superellipse(35, 35, 2), cap(60, 60), 3000));
+  variants.push_back(target("elliptic-cap-deep",
+                            "paraboloid cap, radius of curvature 60 mm, on a 100 mm disk",
+                            superellipse(50, 50, 2), cap(60, 60), 5000));
+  variants.push_back(
+      target("elliptic-cap-1.5",
+             "paraboloid cap, radii of curvature 100 x 70 mm, on a 120 x 80 mm ellipse",
+             superellipse(60, 40, 2), cap(100, 70), 5000));
+  variants.push_back(
+      target("elliptic-cap-2.5",
+             "paraboloid cap, radii of curvature 110 x 55 mm, on a 130 x 52 mm ellipse",
+             superellipse(65, 26, 2), cap(110, 55), 5000));
+  return variants;
+}
+
 }  // namespace flatmorph

@@ -23,4 +23,8 @@ struct ValidationTarget {
 // centred on the origin, meshed in rings that follow the footprint's outline.
 std::vector<ValidationTarget> validation_family();
 
+// Targets of the family's kinds at other sizes, aspects and resolutions (monkey saddles, elliptic
+// caps), measured like the family and never tuned on either.
+std::vector<ValidationTarget> validation_family_variants();
+
 }  // namespace flatmorph

@@ -1,5 +1,7 @@
 #include "simulate/adjoint_design.h"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cmath>
 #include <memory>
@@ -316,8 +318,8 @@ class DesignScenarios {
   // Every scenario's equilibrium for p, scenario j from starts[j] (in the frame); the results.
   std::vector<NewtonResult> forward(const Eigen::VectorXd& p,
                                     const std::vector<Eigen::VectorXd>& starts, bool trial) {
-    std::vector<NewtonResult> results;
-    for (int j = 0; j < size(); ++j) results.push_back(solvers_[j]->forward(p, starts[j], trial));
+    std::vector<NewtonResult> results(size());
+    each_scenario([&](int j) { results[j] = solvers_[j]->forward(p, starts[j], trial); });
     return results;
   }
 
@@ -328,10 +330,9 @@ class DesignScenarios {
   }
 
   bool linearize(const std::vector<Eigen::VectorXd>& x) {
-    for (int j = 0; j < size(); ++j) {
-      if (!solvers_[j]->linearize(x[j])) return false;
-    }
-    return true;
+    std::vector<char> ok(size());
+    each_scenario([&](int j) { ok[j] = solvers_[j]->linearize(x[j]); });
+    return std::all_of(ok.begin(), ok.end(), [](char k) { return k != 0; });
   }
 
   // The mean of the scenarios' gradients (each carries the same regularizer's).
@@ -342,15 +343,16 @@ class DesignScenarios {
   }
 
   Eigen::VectorXd gauss_newton_product(const Eigen::VectorXd& v) const {
-    Eigen::VectorXd product = solvers_[0]->gauss_newton_product(v);
-    for (int j = 1; j < size(); ++j) product += solvers_[j]->gauss_newton_product(v);
-    return product / size();
+    std::vector<Eigen::VectorXd> products(size());
+    each_scenario([&](int j) { products[j] = solvers_[j]->gauss_newton_product(v); });
+    for (int j = 1; j < size(); ++j) products[0] += products[j];
+    return products[0] / size();
   }
 
   // Each scenario's S v.
   std::vector<Eigen::VectorXd> sensitivity(const Eigen::VectorXd& v) const {
-    std::vector<Eigen::VectorXd> dx;
-    for (const auto& solver : solvers_) dx.push_back(solver->sensitivity(v));
+    std::vector<Eigen::VectorXd> dx(size());
+    each_scenario([&](int j) { dx[j] = solvers_[j]->sensitivity(v); });
     return dx;
   }
 
@@ -366,6 +368,17 @@ class DesignScenarios {
   }
 
  private:
+  // The scenarios share nothing but the problem they read: one per core, and the results are
+  // combined in their order, so the bits do not depend on the cores.
+  template <typename Work>
+  void each_scenario(const Work& work) const {
+    if (size() == 1) {
+      work(0);
+      return;
+    }
+    tbb::parallel_for(0, size(), [&](int j) { work(j); });
+  }
+
   std::vector<std::unique_ptr<AdjointDesignSolver>> solvers_;
 };
 

@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "mesh/io.h"
+#include "mesh/mesh_fixtures.h"
 #include "test_support.h"
 
 namespace flatmorph::cli_design_test {
@@ -67,20 +68,26 @@ TEST(CliDesign, WritesThePlateTheShapesAndTheMetrics) {
   // --json: design.json on stdout, no progress. --stretch: the flattening starts where it is told.
   const int chosen_stretch = j.at("stretch_candidate").get<int>();
   const int other_stretch = (chosen_stretch + 1) % 4;
-  const fs::path dir2 = testing::scratch_dir() / "out2";
+  // These options' wiring is what is checked: a coarse cap (512 faces) designs in a second.
+  const fs::path cap = dir.parent_path() / "cap.obj";
+  write_obj(cap, testing::grid_mesh(16, 16, [](double u, double v) {
+              const double x = 60 * u - 30, y = 60 * v - 30;
+              return Eigen::Vector3d(x, y, -(x * x + y * y) / 120);
+            }));
+  const fs::path dir2 = dir.parent_path() / "out2";
   const auto json_run =
-      run_cli({"design", "--example", "dome", "--width", "60", "--faces", "1", "--no-gcode",
-               "--json", "--stretch", std::to_string(other_stretch), "-o", dir2.string()});
+      run_cli({"design", cap.string(), "--width", "60", "--faces", "1", "--no-gcode", "--json",
+               "--stretch", std::to_string(other_stretch), "-o", dir2.string()});
   ASSERT_EQ(json_run.exit_code, 0) << json_run.err;
   const nlohmann::json summary = nlohmann::json::parse(json_run.out);
-  EXPECT_EQ(summary.at("metrics").at("faces").get<int>(), target.mesh.num_faces());
+  EXPECT_EQ(summary.at("metrics").at("faces").get<int>(), 512);
   EXPECT_EQ(json_run.out.find("optimize theta2"), std::string::npos) << json_run.out;
   EXPECT_EQ(summary.at("stretch_candidate").get<int>(), other_stretch);
   EXPECT_EQ(summary.at("stretch").get<std::string>(), std::to_string(other_stretch));
 
   // --stretch all: every stretch's result in design.json, the lowest objective's plate kept.
-  const fs::path dir3 = testing::scratch_dir() / "out3";
-  const auto all_run = run_cli({"design", "--example", "dome", "--width", "60", "--faces", "1",
+  const fs::path dir3 = dir.parent_path() / "out3";
+  const auto all_run = run_cli({"design", cap.string(), "--width", "60", "--faces", "1",
                                 "--no-gcode", "--json", "--stretch", "all", "-o", dir3.string()});
   ASSERT_EQ(all_run.exit_code, 0) << all_run.err;
   const nlohmann::json all = nlohmann::json::parse(all_run.out);

@@ -1,5 +1,7 @@
 #include "methods/shrink_morph/optimize_theta2.h"
 
+#include <tbb/parallel_for.h>
+
 #include <fmt/core.h>
 
 #include <Eigen/SparseCore>
@@ -205,16 +207,17 @@ std::vector<Eigen::MatrixXd> theta2_equilibria_under_path_errors(const Theta2Pro
                                                                  const PathErrorModel& model,
                                                                  const SimulationOptions& forward) {
   const LayerStack nominal = theta2_layer_stack(problem, theta2);
-  std::vector<Eigen::MatrixXd> equilibria;
-  for (int sample = model.first_sample; sample < model.first_sample + model.samples; ++sample) {
+  std::vector<Eigen::MatrixXd> equilibria(std::max(model.samples, 0));
+  // The samples share nothing (their seeds are their indices): one per core, the same bits.
+  tbb::parallel_for(0, static_cast<int>(equilibria.size()), [&](int i) {
     LayerStack stack = nominal;
     const Eigen::MatrixXd errors =
         path_angle_errors(problem.F, static_cast<int>(problem.plate.rows()), stack.num_layers(),
-                          model.rms_rad, model.smoothing_passes, sample);
+                          model.rms_rad, model.smoothing_passes, model.first_sample + i);
     for (int k = 0; k < stack.num_layers(); ++k) stack.layers[k].theta += errors.col(k);
     const PlateProblem plate{problem.plate, problem.F, laminate(stack)};
-    equilibria.push_back(simulate(plate, problem.target, forward).V);
-  }
+    equilibria[i] = simulate(plate, problem.target, forward).V;
+  });
   return equilibria;
 }
 

@@ -2,8 +2,9 @@
 // design with the paper's settings (faces, width, w_D, the paper's PLA, side and stretch chosen
 // automatically) ends within 1.5 times the paper's "Dist. to optim." (average and maximum, % of the
 // bounding-box diagonal) and closer than theta2 = 0. Designed from every initial stretch
-// (`--stretch all`), the beetle and the top meet the paper's own figures and the face 1.5 times
-// them. The top, designed again under the paths' errors, prints from its own plate.gcode within
+// (`--stretch all`), the face meets 1.5 times them (the beetle and the top meet the paper's own
+// figures that way: BM_Table1/2/1 and /4/1 report it, docs/design.md; here they would cost two
+// minutes of CI). The top, designed again under the paths' errors, prints from its own plate.gcode within
 // 1.5 % / 10 % of the target (26 % before). The benchmark (BM_Table1) holds the real bar and the times. Slow: a
 // whole design per model (2-12 s in Release, the top about 40 s, 20-30 s from every stretch).
 //
@@ -77,7 +78,6 @@ INSTANTIATE_TEST_SUITE_P(
     Paper, Table1,
     ::testing::Values(Table1Case{"hemisphere-big", false, 1.5}, Table1Case{"saddle", false, 1.5},
                       Table1Case{"beetle", false, 1.5}, Table1Case{"top", false, 1.5},
-                      Table1Case{"beetle", true, 1.0}, Table1Case{"top", true, 1.0},
                       Table1Case{"face", true, 1.5}),
     [](const ::testing::TestParamInfo<Table1Case>& info) {
       std::string name = info.param.name;
