@@ -11,11 +11,9 @@
 #include <chrono>
 
 #include "examples/validation_family.h"
-#include "gcode/printer_profile.h"
 #include "material/material.h"
 #include "methods/shrink_morph/design.h"
-#include "run/gcode_prediction.h"
-#include "run/print_plan.h"
+#include "paper_models.h"
 
 namespace flatmorph {
 namespace {
@@ -52,20 +50,10 @@ void design_and_print(benchmark::State& state, const std::vector<ValidationTarge
     state.counters["max_not_worse"] = m.dist_to_optim_max_pct <= m.dist_to_sim_max_pct;
     state.counters["avg_3x"] =
         m.dist_to_sim_avg_pct <= 0.5 || 3 * m.dist_to_optim_avg_pct <= m.dist_to_sim_avg_pct;
-    state.PauseTiming();
-    const PlateDesign plate =
-        shrink_morph_plate_design(d.flat, d.theta2, options.material, options.layers);
-    const PrintPlan plan = plan_print(plate, load_printer("generic-marlin"), PrintFilesOptions{});
-    const ClosedLoop loop =
-        close_the_loop(plan.gcode.text, "plate.gcode", plate.plate, plate.F, {options.material},
-                       d.flat.target.V, d.flat.target.V, d.optimized);
-    state.counters["gcode_avg_pct"] = loop.to_target.mean_percent;
-    state.counters["gcode_max_pct"] = loop.to_target.max_percent;
-    state.counters["vs_fields_avg_pct"] = loop.to_prediction.mean_percent;
+    const ClosedLoop loop = count_printed_shape(state, d, options, "generic-marlin");
     state.counters["gcode_within_1.5x+0.2"] =
         loop.to_target.mean_percent <= 1.5 * m.dist_to_optim_avg_pct + 0.2 &&
         loop.to_target.max_percent <= 1.5 * m.dist_to_optim_max_pct + 0.2;
-    state.ResumeTiming();
   }
 }
 void BM_Family(benchmark::State& state) { design_and_print(state, validation_family()); }

@@ -10,6 +10,7 @@
 #include "gcode/printer_profile.h"
 #include "mesh/io.h"
 #include "methods/shrink_morph/design.h"
+#include "run/gcode_prediction.h"
 #include "run/print_plan.h"
 
 namespace flatmorph {
@@ -44,6 +45,27 @@ inline PaperPrint design_paper_model(const PaperModel& model, const std::filesys
                                         out.options.layers);
   out.printer = load_printer("creality-cr10s-pro");
   return out;
+}
+
+// The shape a design's own plate.gcode prints on `printer`: planned, read back, rasterized and
+// simulated from the target (run/gcode_prediction.h), not timed. Its distance to the target and
+// to the fields' prediction, as counters gcode_avg_pct, gcode_max_pct, vs_fields_avg_pct and
+// vs_fields_max_pct (% of the diagonal); returned for further counters.
+inline ClosedLoop count_printed_shape(benchmark::State& state, const Design& d,
+                                      const DesignOptions& options, const std::string& printer) {
+  state.PauseTiming();
+  const PlateDesign plate =
+      shrink_morph_plate_design(d.flat, d.theta2, options.material, options.layers);
+  const PrintPlan plan = plan_print(plate, load_printer(printer), PrintFilesOptions{});
+  ClosedLoop loop =
+      close_the_loop(plan.gcode.text, "plate.gcode", plate.plate, plate.F, {options.material},
+                     d.flat.target.V, d.flat.target.V, d.optimized);
+  state.counters["gcode_avg_pct"] = loop.to_target.mean_percent;
+  state.counters["gcode_max_pct"] = loop.to_target.max_percent;
+  state.counters["vs_fields_avg_pct"] = loop.to_prediction.mean_percent;
+  state.counters["vs_fields_max_pct"] = loop.to_prediction.max_percent;
+  state.ResumeTiming();
+  return loop;
 }
 
 }  // namespace flatmorph

@@ -94,19 +94,7 @@ void BM_Table1(benchmark::State& state) {
     state.counters["normal_side_down"] = d.flipped;
     state.counters["stretch"] = d.flat.stretch_candidate;
     state.counters["E"] = m.optim_objective;
-    state.PauseTiming();
-    const PlateDesign plate =
-        shrink_morph_plate_design(d.flat, d.theta2, options.material, options.layers);
-    const PrintPlan plan =
-        plan_print(plate, load_printer("creality-cr10s-pro"), PrintFilesOptions{});
-    const ClosedLoop loop =
-        close_the_loop(plan.gcode.text, "plate.gcode", plate.plate, plate.F, {options.material},
-                       d.flat.target.V, d.flat.target.V, d.optimized);
-    state.counters["gcode_avg_pct"] = loop.to_target.mean_percent;
-    state.counters["gcode_max_pct"] = loop.to_target.max_percent;
-    state.counters["vs_fields_avg_pct"] = loop.to_prediction.mean_percent;
-    state.counters["vs_fields_max_pct"] = loop.to_prediction.max_percent;
-    state.ResumeTiming();
+    count_printed_shape(state, d, options, "creality-cr10s-pro");
   }
 }
 BENCHMARK(BM_Table1)

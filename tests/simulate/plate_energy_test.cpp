@@ -215,14 +215,19 @@ TEST(PlateEnergy, PulledBackShapeOperatorEqualsSumOfConstantTensors) {
   }
 }
 
-TEST(PlateEnergy, ZeroAtTheRestStateOfAFlatUnstimulatedPlate) {
-  const TestPlate plate = rectangle_plate(10, 6, 5, 3);
+// A 10 x 6 mm plate at rest when flat: ā = I, b̄ = 0, 1.2 mm thick.
+OrthotropicRest flat_unstimulated_rest(int nf) {
   OrthotropicRest rest;
-  const int nf = static_cast<int>(plate.F.rows());
   rest.rest_first_fundamental_form.assign(nf, Eigen::Matrix2d::Identity());
   rest.rest_second_fundamental_form.assign(nf, Eigen::Matrix2d::Zero());
   rest.thickness = Eigen::VectorXd::Constant(nf, 1.2);
   rest.material_angle = Eigen::VectorXd::Constant(nf, 0.4);
+  return rest;
+}
+
+TEST(PlateEnergy, ZeroAtTheRestStateOfAFlatUnstimulatedPlate) {
+  const TestPlate plate = rectangle_plate(10, 6, 5, 3);
+  const OrthotropicRest rest = flat_unstimulated_rest(static_cast<int>(plate.F.rows()));
   const PlateEnergy energy = make_plate_energy(plate.V, plate.F, rest, {});
   Eigen::VectorXd g;
   const double e =
@@ -278,12 +283,8 @@ TEST(PlateEnergy, AShapesOwnFormsAreItsRestAndTheSqueezeIsRelativeToThem) {
   // The flat plate squeezed to half its length along x and stretched by 2 along y, against ā = I:
   // the squared stretches are 1/4 and 4.
   const TestPlate plate = rectangle_plate(10, 6, 5, 3);
-  OrthotropicRest rest;
   const int nf = static_cast<int>(plate.F.rows());
-  rest.rest_first_fundamental_form.assign(nf, Eigen::Matrix2d::Identity());
-  rest.rest_second_fundamental_form.assign(nf, Eigen::Matrix2d::Zero());
-  rest.thickness = Eigen::VectorXd::Constant(nf, 1.2);
-  rest.material_angle = Eigen::VectorXd::Constant(nf, 0.4);
+  OrthotropicRest rest = flat_unstimulated_rest(nf);
   Eigen::MatrixXd X = embed(plate.V);
   X.col(0) *= 0.5;
   X.col(1) *= 2;
