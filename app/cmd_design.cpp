@@ -35,11 +35,12 @@ Command make_design_command(CLI::App& app, const GlobalOptions& global) {
   sub->add_option("--wL", o.w_L, "Weight of the theta2 smoothness term (Eq. 13)")
       ->capture_default_str();
   sub->add_option("--path-error", o.path_error_deg,
-                  "Paths' angle error in degrees (rms per face and layer): a design whose plate "
-                  "snaps to another shape under errors of about 1 degree (a fold of its "
-                  "equilibria) is designed again for the mean over the nominal stack and two "
-                  "samples of errors this large, and kept when its printed shape lands closer; 0 "
-                  "turns this off (docs/design.md)")
+                  "Paths' angle error in degrees (rms per face and layer, varying over a couple "
+                  "of rings of faces): a design whose plate snaps to another shape under errors "
+                  "of about 1 degree (a fold of its equilibria) is designed again, from where it "
+                  "ended, for the mean over the nominal stack and two samples of errors this "
+                  "large, and kept when its printed shape lands closer; 0 turns this off "
+                  "(docs/design.md)")
       ->capture_default_str();
   sub->add_option("--faces", o.faces,
                   "Loop-subdivide the target until it has at least this many faces")

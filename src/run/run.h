@@ -32,7 +32,7 @@ struct ShrinkMorphRunOptions {
   double w_M = 0.01;  // Eq. 13 weight of the theta2 magnitude term
   double w_L = 0.01;  // Eq. 13 weight of the theta2 smoothness term
   // The paths' angle errors (rms, degrees) a design at a fold is designed again for; 0: none.
-  double path_error_deg = 2.3;
+  double path_error_deg = 2.0;
   int faces = 10000;  // Loop-subdivide the target until it has at least this many faces
   int layers = 10;    // printed layers
   std::string material = "pla-paper";

@@ -6,6 +6,7 @@
 #include "simulate/adjoint_design.h"
 
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
 
 #include <cmath>
 #include <functional>
@@ -190,6 +191,35 @@ TEST(AdjointDesign, AnErrorThatChangesNothingLeavesTheDesignAsItIs) {
   EXPECT_EQ(twice.iterations, nominal.iterations);
   EXPECT_EQ(twice.objective, nominal.objective);
   EXPECT_EQ(twice.variables, nominal.variables);
+}
+
+// The scenarios run side by side on the cores there are (each with its own solver): on one
+// thread or on several the optimization takes the same steps, bit for bit.
+TEST(AdjointDesign, ScenariosSideBySideGiveTheSameBitsAsOneAfterAnother) {
+  const TestPlate plate = rectangle_plate(40, 16, 8, 3);
+  const int nv = static_cast<int>(plate.V.rows());
+  AdjointDesignProblem problem =
+      bilayer_problem(plate, equilibrium(plate, ramp(plate, 0.002, 0.008)));
+  problem.perturbations = {[](LayerStack& stack) { stack.layers[1].lambda1.array() -= 0.001; },
+                           [](LayerStack& stack) { stack.layers[1].lambda1.array() += 0.001; }};
+  AdjointDesignOptions options;
+  options.laplacian_weight = 1e-2;
+  options.max_step = 0.004;
+  options.min_step = 1e-6;
+  options.decrement_tolerance = 1e-4;
+  options.relative_decrease = 0;
+  const Eigen::VectorXd start = Eigen::VectorXd::Constant(nv, 0.005);
+  const AdjointDesignResult side_by_side = optimize_adjoint_design(problem, start, options);
+  AdjointDesignResult one_thread;
+  {
+    const tbb::global_control serial(tbb::global_control::max_allowed_parallelism, 1);
+    one_thread = optimize_adjoint_design(problem, start, options);
+  }
+  EXPECT_GT(side_by_side.iterations, 1);
+  EXPECT_EQ(one_thread.iterations, side_by_side.iterations);
+  EXPECT_EQ(one_thread.objective, side_by_side.objective);
+  EXPECT_EQ(one_thread.variables, side_by_side.variables);
+  EXPECT_EQ(one_thread.V, side_by_side.V);
 }
 
 // The target is the equilibrium of a known p: from a uniform p the optimizer brings E down to a

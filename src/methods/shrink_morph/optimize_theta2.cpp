@@ -35,11 +35,13 @@ void check_theta2_problem(const Theta2Problem& problem, const OptimizeTheta2Opti
                     "theta2 optimization: w_M and w_L must be non-negative");
   }
   if (!(options.path_error_rad >= 0 && options.path_error_rad < 1) ||
-      options.path_error_samples < 0) {
+      options.path_error_samples < 0 || options.path_error_smoothing_passes < 0) {
     throw UserError(ErrorCategory::kOption,
-                    fmt::format("theta2 optimization: a path error of {} rad in {} samples: give "
-                                "0 to 1 rad (0: none) and 0 or more samples",
-                                options.path_error_rad, options.path_error_samples));
+                    fmt::format("theta2 optimization: a path error of {} rad in {} samples "
+                                "smoothed {} times: give 0 to 1 rad (0: none), 0 or more samples "
+                                "and 0 or more passes",
+                                options.path_error_rad, options.path_error_samples,
+                                options.path_error_smoothing_passes));
   }
 }
 
@@ -92,7 +94,7 @@ AdjointDesignProblem theta2_design_problem(const Theta2Problem& problem,
     for (int sample = 0; sample < options.path_error_samples; ++sample) {
       auto errors = std::make_shared<const Eigen::MatrixXd>(
           path_angle_errors(problem.F, static_cast<int>(problem.plate.rows()), problem.num_layers,
-                            options.path_error_rad, 0, sample));
+                            options.path_error_rad, options.path_error_smoothing_passes, sample));
       design.perturbations.push_back([errors](LayerStack& stack) {
         for (int k = 0; k < stack.num_layers(); ++k) stack.layers[k].theta += errors->col(k);
       });
@@ -205,7 +207,8 @@ PlateProblem theta2_plate_problem(const Theta2Problem& problem, const Eigen::Vec
 std::vector<Eigen::MatrixXd> theta2_equilibria_under_path_errors(const Theta2Problem& problem,
                                                                  const Eigen::VectorXd& theta2,
                                                                  const PathErrorModel& model,
-                                                                 const SimulationOptions& forward) {
+                                                                 const SimulationOptions& forward,
+                                                                 const Eigen::MatrixXd& start) {
   const LayerStack nominal = theta2_layer_stack(problem, theta2);
   std::vector<Eigen::MatrixXd> equilibria(std::max(model.samples, 0));
   // The samples share nothing (their seeds are their indices): one per core, the same bits.
@@ -216,7 +219,7 @@ std::vector<Eigen::MatrixXd> theta2_equilibria_under_path_errors(const Theta2Pro
                           model.rms_rad, model.smoothing_passes, model.first_sample + i);
     for (int k = 0; k < stack.num_layers(); ++k) stack.layers[k].theta += errors.col(k);
     const PlateProblem plate{problem.plate, problem.F, laminate(stack)};
-    equilibria[i] = simulate(plate, problem.target, forward).V;
+    equilibria[i] = simulate(plate, start.size() ? start : problem.target, forward).V;
   });
   return equilibria;
 }
