@@ -170,6 +170,18 @@ TEST(AdjointDesign, AveragesTheDistanceOverPerturbedStacksWithItsGradient) {
   EXPECT_GT(std::abs(fd), 1e-3 * at.gradient.norm());
 }
 
+// Steps of at most 0.004 in p, down to 1e-6, until the predicted decrease is below 1e-4: a few
+// iterations from a uniform p.
+AdjointDesignOptions short_steps() {
+  AdjointDesignOptions options;
+  options.laplacian_weight = 1e-2;
+  options.max_step = 0.004;
+  options.min_step = 1e-6;
+  options.decrement_tolerance = 1e-4;
+  options.relative_decrease = 0;
+  return options;
+}
+
 // A perturbation that changes nothing leaves the optimization as it is, bit for bit: the mean of
 // equal terms is the term.
 TEST(AdjointDesign, AnErrorThatChangesNothingLeavesTheDesignAsItIs) {
@@ -177,12 +189,7 @@ TEST(AdjointDesign, AnErrorThatChangesNothingLeavesTheDesignAsItIs) {
   const int nv = static_cast<int>(plate.V.rows());
   AdjointDesignProblem problem =
       bilayer_problem(plate, equilibrium(plate, ramp(plate, 0.002, 0.008)));
-  AdjointDesignOptions options;
-  options.laplacian_weight = 1e-2;
-  options.max_step = 0.004;
-  options.min_step = 1e-6;
-  options.decrement_tolerance = 1e-4;
-  options.relative_decrease = 0;
+  const AdjointDesignOptions options = short_steps();
   const Eigen::VectorXd start = Eigen::VectorXd::Constant(nv, 0.005);
   const AdjointDesignResult nominal = optimize_adjoint_design(problem, start, options);
   problem.perturbations = {[](LayerStack&) {}};
@@ -202,12 +209,7 @@ TEST(AdjointDesign, ScenariosSideBySideGiveTheSameBitsAsOneAfterAnother) {
       bilayer_problem(plate, equilibrium(plate, ramp(plate, 0.002, 0.008)));
   problem.perturbations = {[](LayerStack& stack) { stack.layers[1].lambda1.array() -= 0.001; },
                            [](LayerStack& stack) { stack.layers[1].lambda1.array() += 0.001; }};
-  AdjointDesignOptions options;
-  options.laplacian_weight = 1e-2;
-  options.max_step = 0.004;
-  options.min_step = 1e-6;
-  options.decrement_tolerance = 1e-4;
-  options.relative_decrease = 0;
+  const AdjointDesignOptions options = short_steps();
   const Eigen::VectorXd start = Eigen::VectorXd::Constant(nv, 0.005);
   const AdjointDesignResult side_by_side = optimize_adjoint_design(problem, start, options);
   AdjointDesignResult one_thread;
