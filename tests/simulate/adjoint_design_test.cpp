@@ -231,12 +231,7 @@ TEST(AdjointDesign, FindsAReachableTarget) {
   const int nv = static_cast<int>(plate.V.rows());
   const Eigen::VectorXd wanted = ramp(plate, 0.002, 0.008);
   const AdjointDesignProblem problem = bilayer_problem(plate, equilibrium(plate, wanted));
-  AdjointDesignOptions options;
-  options.laplacian_weight = 1e-2;
-  options.max_step = 0.004;
-  options.min_step = 1e-6;
-  options.decrement_tolerance = 1e-4;
-  options.relative_decrease = 0;
+  AdjointDesignOptions options = short_steps();
   int calls = 0;
   options.progress = [&calls](const AdjointIteration&) { ++calls; };
   const Eigen::VectorXd start = Eigen::VectorXd::Constant(nv, 0.005);

@@ -5,7 +5,7 @@
 // (`--stretch all`), the beetle and the top meet the paper's own figures and the face 1.5 times
 // them: BM_Table1/*/1 reports it (docs/design.md; here it would cost three minutes of CI, and
 // DesignEveryStretch holds the exploration itself). The top, designed again under the paths'
-// errors, prints from its own plate.gcode within 1 % / 6 % of the target (26 % before); that
+// errors, prints from its own plate.gcode within 0.65 % / 4 % of the target (26 % before); that
 // design gives up some of the fields' accuracy (0.31 % -> 0.36-0.37 % average against the paper's
 // 0.24 %), so its bar is 1.6 times the paper's (docs/design.md). The
 // benchmark (BM_Table1) holds the real bar and the times. Slow: a whole design per model (2-40 s in
@@ -56,8 +56,9 @@ TEST_P(Table1, EndsWithinTheBarOfThePaper) {
   if (std::string(model.name) != "top") return;
   // The top rests at a fold of its equilibria: designed for the nominal stack alone, the shape
   // its own plate.gcode prints lands 2.9 % / 26 % from the target. Designed again from there
-  // under the paths' errors, the G-code lands 0.62 % / 3.7 % from it (the bar leaves room for
-  // builds whose BLAS sums differ; the issue's, 0.48 % / 5.9 %, is not met: docs/design.md).
+  // under the paths' errors, the G-code lands 0.57 % / 3.5 % from it here and 0.62 % / 3.7 % in
+  // BM_Table1, whose BLAS sums differ (the bar, 0.48 % / 5.9 %, is not met:
+  // docs/design.md).
   EXPECT_TRUE(m.path_error_redesigned);
   const PlateDesign plate =
       shrink_morph_plate_design(d.flat, d.theta2, options.material, options.layers);
@@ -65,8 +66,8 @@ TEST_P(Table1, EndsWithinTheBarOfThePaper) {
   const ClosedLoop loop =
       close_the_loop(plan.gcode.text, "plate.gcode", plate.plate, plate.F, {options.material},
                      d.flat.target.V, d.flat.target.V, d.optimized);
-  EXPECT_LE(loop.to_target.mean_percent, 1.0);
-  EXPECT_LE(loop.to_target.max_percent, 6.0);
+  EXPECT_LE(loop.to_target.mean_percent, 0.65);
+  EXPECT_LE(loop.to_target.max_percent, 4.0);
 }
 
 INSTANTIATE_TEST_SUITE_P(Paper, Table1,
